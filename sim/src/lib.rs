@@ -1,0 +1,2 @@
+//! Particle simulator for dense non-Brownian suspensions under inhomogeneous flow.
+//! Physics: `../shared/SPEC.md`; equation numbers are the thesis' (chapter 3 and 6).

@@ -1,0 +1,1 @@
+//! Surrogate models of local rheology (SPEC section 8). Filled in by issue 4.

@@ -1,0 +1,41 @@
+//! The simulator's error type.
+use thiserror::Error;
+
+/// Every failure the simulator reports: bad input names the field, runtime failures name the step and particle.
+#[derive(Debug, Error)]
+pub enum SimError {
+    /// A scene field has an invalid value.
+    #[error("scene field `{field}`: {message}")]
+    Field { field: String, message: String },
+    /// The flow profile expression does not parse, is not finite, or is not periodic.
+    #[error("flow profile `{expr}`: {message}")]
+    Profile { expr: String, message: String },
+    /// The initial configuration could not be built.
+    #[error("initial packing: {0}")]
+    Packing(String),
+    /// The scene file could not be read or parsed.
+    #[error("scene file {path}: {message}")]
+    SceneFile { path: String, message: String },
+    /// The integration became unstable.
+    #[error("blow-up at step {step} (t = {time:.4}), particle {particle}: {what}. Likely cause: {cause}")]
+    BlowUp { step: u64, time: f64, particle: usize, what: String, cause: String },
+    /// The run did not reach a steady state within its strain budget.
+    #[error("no steady state within the budget of strain {budget}: {detail}")]
+    NotSteady { budget: f64, detail: String },
+    /// A checkpoint could not be written, read, or does not belong to this scene.
+    #[error("checkpoint {path}: {message}")]
+    Checkpoint { path: String, message: String },
+    /// Writing results failed.
+    #[error("writing {path}: {message}")]
+    Output { path: String, message: String },
+    /// The run was interrupted (Ctrl-C); the last checkpoint holds its state.
+    #[error("interrupted at step {step}; resume with --resume")]
+    Interrupted { step: u64 },
+}
+
+impl SimError {
+    /// Shorthand for a field error.
+    pub fn field(field: &str, message: impl Into<String>) -> Self {
+        SimError::Field { field: field.to_string(), message: message.into() }
+    }
+}

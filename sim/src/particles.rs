@@ -1,0 +1,72 @@
+//! Particle state as contiguous arrays (structure of arrays).
+use crate::Vec3;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// Positions, velocities, spins and accumulated loads of every particle, plus the
+/// per-particle constants the integrator needs.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Particles {
+    /// Centre positions inside the box (units a).
+    pub pos: Vec<Vec3>,
+    /// Translational velocities.
+    pub vel: Vec<Vec3>,
+    /// Angular velocities.
+    pub omega: Vec<Vec3>,
+    /// Total force on each particle at the current positions.
+    pub force: Vec<Vec3>,
+    /// Total torque on each particle.
+    pub torque: Vec<Vec3>,
+    /// Radius of each particle.
+    pub radius: Vec<f64>,
+    /// Species index (into the scene's radii) of each particle.
+    pub species: Vec<u16>,
+    /// Mass `4/3 pi rho a^3` (eq 3.1).
+    pub mass: Vec<f64>,
+}
+
+impl Particles {
+    /// Particles at rest at `pos` with radii and species given, density `rho`.
+    pub fn at_rest(pos: Vec<Vec3>, radius: Vec<f64>, species: Vec<u16>, rho: f64) -> Self {
+        let n = pos.len();
+        let mass = radius.iter().map(|a| 4.0 / 3.0 * PI * rho * a.powi(3)).collect();
+        Self {
+            pos,
+            vel: vec![Vec3::zeros(); n],
+            omega: vec![Vec3::zeros(); n],
+            force: vec![Vec3::zeros(); n],
+            torque: vec![Vec3::zeros(); n],
+            radius,
+            species,
+            mass,
+        }
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+
+    /// Whether there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    /// Moment of inertia `(2/5) m a^2` of particle i (eq 3.2).
+    #[inline]
+    pub fn inertia(&self, i: usize) -> f64 {
+        0.4 * self.mass[i] * self.radius[i] * self.radius[i]
+    }
+
+    /// Total kinetic energy, translational plus rotational.
+    pub fn kinetic_energy(&self) -> f64 {
+        (0..self.len())
+            .map(|i| 0.5 * self.mass[i] * self.vel[i].norm_squared() + 0.5 * self.inertia(i) * self.omega[i].norm_squared())
+            .sum()
+    }
+
+    /// Total solid volume.
+    pub fn solid_volume(&self) -> f64 {
+        self.radius.iter().map(|a| 4.0 / 3.0 * PI * a.powi(3)).sum()
+    }
+}

@@ -1,0 +1,304 @@
+//! A whole run (SPEC section 7): initial packing, equilibration until the binned
+//! profiles stop drifting, averaging over the requested snapshots, with checkpoints
+//! that a resumed run continues from bit for bit.
+use crate::binning::Bins;
+use crate::block_sums::BlockSums;
+use crate::checkpoint;
+use crate::error::SimError;
+use crate::packing::random_packing;
+use crate::particles::Particles;
+use crate::profile::{Profile, ProfileContext};
+use crate::scene::{Scene, SceneFile};
+use crate::simulation::Simulation;
+use crate::snapshot;
+use crate::stage_timers::Stage;
+use crate::steady_state::{Drift, SteadyState};
+use crate::timestep::TimeStep;
+use crate::Vec3;
+use rand::SeedableRng;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// Smallest gap left between particles by the initial packing, as a fraction of the
+/// pair's mean radius: every centre distance >= 1.002 (a_i + a_j), as the LAMMPS peer's
+/// generator, so no pair starts inside the regularised lubrication range.
+pub const PACKING_GAP: f64 = 4e-3;
+
+/// Where a run is.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Phase {
+    Equilibrating,
+    Averaging,
+}
+
+/// Progress report, once per snapshot.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    pub phase: Phase,
+    pub strain: f64,
+    /// Strain budget of the equilibration.
+    pub max_strain: f64,
+    pub snapshots: usize,
+    pub snapshots_target: usize,
+    pub step: u64,
+}
+
+/// Options that do not change the physics.
+#[derive(Default)]
+pub struct RunOptions {
+    /// Checkpoint file; none = no checkpoints.
+    pub checkpoint: Option<PathBuf>,
+    /// Continue from the checkpoint if it exists.
+    pub resume: bool,
+    /// Set (e.g. by Ctrl-C) to stop at the next snapshot after saving a checkpoint.
+    pub interrupt: Option<&'static AtomicBool>,
+}
+
+/// Everything a resumed run needs, saved in checkpoints.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+struct RunState {
+    scene: SceneFile,
+    particles: Particles,
+    list_reference: Vec<Vec3>,
+    springs: Vec<Vec3>,
+    step: u64,
+    time: f64,
+    list_builds: u64,
+    phase: Phase,
+    steady: SteadyState,
+    averaging: BlockSums,
+    strain_to_steady: Option<f64>,
+    overlap_mean_sum: f64,
+    overlap_max: f64,
+    wall_s: f64,
+}
+
+/// What a finished run reports besides its profile (written to summary.json).
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSummary {
+    pub name: String,
+    pub n_particles: usize,
+    pub phi: f64,
+    pub phi_actual: f64,
+    pub stokes: f64,
+    pub dt: f64,
+    pub dt_limit: String,
+    pub timestep: TimeStep,
+    pub steps: u64,
+    pub strain_total: f64,
+    pub strain_to_steady: f64,
+    pub steady_drift: Vec<Drift>,
+    pub snapshots: usize,
+    pub wall_s: f64,
+    pub particle_steps_per_s: f64,
+    pub momentum_residual: Option<f64>,
+    /// Mean overlap over contacts, averaged over the steady snapshots (units a).
+    pub mean_overlap: f64,
+    /// Largest overlap ratio seen at a steady snapshot (overlap / smaller radius).
+    pub max_overlap: f64,
+    pub list_builds: u64,
+    pub timers: crate::stage_timers::StageTimers,
+    pub threads: usize,
+    pub undefined_bins: Vec<usize>,
+    pub warnings: Vec<String>,
+    pub stress_convention: &'static str,
+    pub code_version: &'static str,
+}
+
+/// Result of a completed run.
+pub struct RunOutcome {
+    pub profile: Profile,
+    pub summary: RunSummary,
+}
+
+/// Constants turning snapshot sums of `scene` into observables.
+pub fn profile_context(scene: &Scene) -> ProfileContext {
+    let [l_x, _, l_z] = scene.box_len;
+    let w = scene.file.run.bin_width;
+    let bins = Bins::new(w, scene.n_bins);
+    ProfileContext {
+        bins,
+        bin_volume: l_x * w * l_z,
+        face_area: l_x * l_z,
+        eta: scene.file.fluid.eta,
+        a_mean: scene.mean_radius(),
+        u_inf: (0..scene.n_bins).map(|k| scene.profile.u(bins.centre(k))).collect(),
+    }
+}
+
+/// The initial state: a random non-overlapping packing at rest, from the scene's seed.
+pub fn initial_particles(scene: &Scene) -> Result<Particles, SimError> {
+    let radius = scene.particle_radii();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(scene.file.seed);
+    let pos = random_packing(&radius, scene.box_len, &mut rng, PACKING_GAP)?;
+    Ok(Particles::at_rest(pos.into_iter().map(Vec3::from).collect(), radius, scene.particle_species(), scene.file.particles.rho))
+}
+
+fn fresh_state(scene: &Scene, sim: &Simulation) -> RunState {
+    let r = &scene.file.run;
+    let per_window = (r.window_strain / r.sample_strain).round().max(1.0) as usize;
+    let blocks = r.blocks;
+    RunState {
+        scene: scene.file.clone(),
+        particles: sim.particles.clone(),
+        list_reference: sim.list.reference.clone(),
+        springs: sim.springs.clone(),
+        step: 0,
+        time: 0.0,
+        list_builds: sim.list_builds,
+        phase: Phase::Equilibrating,
+        steady: SteadyState::new(scene.n_bins, per_window, r.steady_chi2),
+        averaging: BlockSums::new(scene.n_bins, blocks, r.snapshots / blocks),
+        strain_to_steady: None,
+        overlap_mean_sum: 0.0,
+        overlap_max: 0.0,
+        wall_s: 0.0,
+    }
+}
+
+fn same_scene(a: &SceneFile, b: &SceneFile) -> bool {
+    let strip = |s: &SceneFile| {
+        let mut s = s.clone();
+        s.run.checkpoint_every_s = 0.0;
+        serde_json::to_string(&s).unwrap_or_default()
+    };
+    strip(a) == strip(b)
+}
+
+/// Runs `scene` to a steady-state profile, calling `progress` after every snapshot
+/// with the state just sampled.
+pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress, &Simulation)) -> Result<RunOutcome, SimError> {
+    let started = Instant::now();
+    let resume_from = opts.checkpoint.as_ref().filter(|p| opts.resume && p.exists());
+    let (mut sim, mut st) = match resume_from {
+        Some(path) => {
+            let st: RunState = checkpoint::load(path)?;
+            if !same_scene(&st.scene, &scene.file) {
+                return Err(SimError::Checkpoint {
+                    path: path.display().to_string(),
+                    message: "was written for a different scene; remove it or drop --resume".into(),
+                });
+            }
+            let mut sim = Simulation::restore(scene, st.particles.clone(), st.list_reference.clone(), st.springs.clone())?;
+            sim.step = st.step;
+            sim.time = st.time;
+            sim.list_builds = st.list_builds;
+            (sim, st)
+        }
+        None => {
+            let sim = Simulation::new(scene, initial_particles(scene)?)?;
+            let st = fresh_state(scene, &sim);
+            (sim, st)
+        }
+    };
+    let ctx = profile_context(scene);
+    let r = &scene.file.run;
+    let gdot = scene.gdot_max();
+    let steps_per_sample = ((r.sample_strain / (gdot * sim.timestep.dt)).round() as u64).max(1);
+    let target = st.averaging.capacity();
+    let mut last_checkpoint = Instant::now();
+    let wall_before = st.wall_s;
+    let mut sums_scratch = vec![0.0; snapshot::field::FIELDS * scene.n_bins];
+    loop {
+        sim.advance(steps_per_sample)?;
+        let strain = gdot * sim.time;
+        let t = sim.timers.start();
+        sums_scratch.iter_mut().for_each(|x| *x = 0.0);
+        snapshot::accumulate(&sim, &ctx.bins, &mut sums_scratch);
+        let block = match st.phase {
+            Phase::Equilibrating => &mut st.steady.window,
+            Phase::Averaging => &mut st.averaging,
+        };
+        for (acc, v) in block.current().iter_mut().zip(&sums_scratch) {
+            *acc += v;
+        }
+        block.commit();
+        sim.timers.stop(Stage::Sampling, t);
+        match st.phase {
+            Phase::Equilibrating => {
+                if st.steady.window.full() {
+                    if st.steady.close_window(&ctx, strain)? {
+                        st.phase = Phase::Averaging;
+                        st.strain_to_steady = Some(strain);
+                    } else if strain >= r.max_strain {
+                        return Err(SimError::NotSteady { budget: r.max_strain, detail: st.steady.describe_last() });
+                    }
+                }
+            }
+            Phase::Averaging => {
+                st.overlap_mean_sum += sim.contacts.mean_overlap();
+                st.overlap_max = st.overlap_max.max(sim.contacts.max_overlap_ratio);
+            }
+        }
+        progress(&Progress {
+            phase: st.phase,
+            strain,
+            max_strain: r.max_strain,
+            snapshots: st.averaging.taken,
+            snapshots_target: target,
+            step: sim.step,
+        }, &sim);
+        if st.phase == Phase::Averaging && st.averaging.full() {
+            break;
+        }
+        let interrupted = opts.interrupt.is_some_and(|f| f.load(Ordering::SeqCst));
+        if let Some(path) = &opts.checkpoint {
+            if interrupted || last_checkpoint.elapsed().as_secs_f64() >= r.checkpoint_every_s {
+                st.wall_s = wall_before + started.elapsed().as_secs_f64();
+                save_state(&mut st, &sim, path)?;
+                last_checkpoint = Instant::now();
+            }
+        }
+        if interrupted {
+            return Err(SimError::Interrupted { step: sim.step });
+        }
+    }
+    let profile = Profile::from_blocks(&ctx, &st.averaging)?;
+    let wall_s = wall_before + started.elapsed().as_secs_f64();
+    let mut warnings = scene.warnings.clone();
+    let undefined_bins = profile.undefined_bins();
+    if !undefined_bins.is_empty() {
+        warnings.push(format!("P <= 0 in bins {undefined_bins:?}: J, mu and Theta undefined there (empty fields)"));
+    }
+    let summary = RunSummary {
+        name: scene.file.name.clone(),
+        n_particles: sim.particles.len(),
+        phi: scene.file.particles.phi,
+        phi_actual: scene.phi_actual,
+        stokes: scene.stokes,
+        dt: sim.timestep.dt,
+        dt_limit: sim.timestep.limit.to_string(),
+        timestep: sim.timestep,
+        steps: sim.step,
+        strain_total: gdot * sim.time,
+        strain_to_steady: st.strain_to_steady.unwrap_or(f64::NAN),
+        steady_drift: st.steady.history.clone(),
+        snapshots: profile.snapshots,
+        wall_s,
+        particle_steps_per_s: sim.particles.len() as f64 * sim.step as f64 / wall_s.max(1e-9),
+        momentum_residual: profile.momentum_residual,
+        mean_overlap: st.overlap_mean_sum / target as f64,
+        max_overlap: st.overlap_max,
+        list_builds: sim.list_builds,
+        timers: sim.timers,
+        threads: rayon::current_num_threads(),
+        undefined_bins,
+        warnings,
+        stress_convention: "sigma = sum of stresslets -F_ij (x) r_ij / V_b, positive in compression (minus the Cauchy stress); P = tr(sigma)/3",
+        code_version: env!("CARGO_PKG_VERSION"),
+    };
+    Ok(RunOutcome { profile, summary })
+}
+
+fn save_state(st: &mut RunState, sim: &Simulation, path: &std::path::Path) -> Result<(), SimError> {
+    st.particles = sim.particles.clone();
+    st.list_reference = sim.list.reference.clone();
+    st.springs = sim.springs.clone();
+    st.step = sim.step;
+    st.time = sim.time;
+    st.list_builds = sim.list_builds;
+    checkpoint::save(path, st)
+}

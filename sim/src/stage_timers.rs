@@ -1,0 +1,39 @@
+//! Wall-clock time spent in each stage of a run, reported in summary.json.
+use serde::Serialize;
+use std::time::{Duration, Instant};
+
+/// Stages of a step.
+#[derive(Clone, Copy, Debug)]
+pub enum Stage {
+    Neighbours,
+    Forces,
+    Integration,
+    Sampling,
+}
+
+/// Accumulated seconds per stage.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct StageTimers {
+    pub neighbours_s: f64,
+    pub forces_s: f64,
+    pub integration_s: f64,
+    pub sampling_s: f64,
+}
+
+impl StageTimers {
+    /// A start mark.
+    pub fn start(&self) -> Instant {
+        Instant::now()
+    }
+
+    /// Adds the time since `since` to `stage`.
+    pub fn stop(&mut self, stage: Stage, since: Instant) {
+        let s = Duration::as_secs_f64(&since.elapsed());
+        match stage {
+            Stage::Neighbours => self.neighbours_s += s,
+            Stage::Forces => self.forces_s += s,
+            Stage::Integration => self.integration_s += s,
+            Stage::Sampling => self.sampling_s += s,
+        }
+    }
+}

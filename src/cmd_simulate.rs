@@ -1,0 +1,103 @@
+//! `suspflow simulate SCENE.toml --out DIR`: one scene to its steady-state profile.
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+use sim::run::{Phase, RunOptions};
+use sim::scene::Scene;
+use sim::SimError;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Scene file (TOML, see README).
+    scene: PathBuf,
+    /// Output directory: profile.csv, summary.json, checkpoint.json.
+    #[arg(long)]
+    out: PathBuf,
+    /// Continue from DIR/checkpoint.json if it exists.
+    #[arg(long)]
+    resume: bool,
+    /// Refuse scenes that only warrant a warning (Stokes number >= 0.1).
+    #[arg(long)]
+    strict: bool,
+    /// Threads (0 = all cores).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Write an extended-XYZ frame every N snapshots to DIR/frames.xyz.
+    #[arg(long, value_name = "N")]
+    snapshot: Option<usize>,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let scene = Scene::from_path(&args.scene, args.strict)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst)).context("installing the Ctrl-C handler")?;
+    let opts = RunOptions {
+        checkpoint: Some(args.out.join("checkpoint.json")),
+        resume: args.resume,
+        interrupt: Some(&INTERRUPTED),
+    };
+    let mut frames = match args.snapshot {
+        Some(every) if every > 0 => {
+            let path = args.out.join("frames.xyz");
+            Some((every, std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?))
+        }
+        _ => None,
+    };
+    let bar = ProgressBar::new(1000);
+    bar.set_style(ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})")?);
+    let mut frame_error = None;
+    let mut samples = 0usize;
+    let outcome = crate::with_threads(args.threads, || {
+        sim::run::run(&scene, &opts, &mut |p, sim| {
+            match p.phase {
+                Phase::Equilibrating => {
+                    bar.set_position((1000.0 * p.strain / p.max_strain).min(1000.0) as u64);
+                    bar.set_message(format!("equilibrating: strain {:.2} of budget {:.1}", p.strain, p.max_strain));
+                }
+                Phase::Averaging => {
+                    bar.set_position((1000 * p.snapshots / p.snapshots_target.max(1)) as u64);
+                    bar.set_message(format!("averaging: snapshot {} / {}", p.snapshots, p.snapshots_target));
+                }
+            }
+            samples += 1;
+            if let Some((every, file)) = frames.as_mut() {
+                if samples % *every == 0 && frame_error.is_none() {
+                    frame_error = sim::output::append_xyz_frame(file, sim).err();
+                }
+            }
+        })
+    })?;
+    bar.finish_and_clear();
+    if let Some(e) = frame_error {
+        return Err(e.into());
+    }
+    let outcome = match outcome {
+        Err(SimError::Interrupted { step }) => {
+            anyhow::bail!("interrupted at step {step}; state saved in {}; continue with --resume",
+                args.out.join("checkpoint.json").display())
+        }
+        other => other?,
+    };
+    sim::output::write_results(&args.out, &scene, &outcome.profile, &outcome.summary)?;
+    let s = &outcome.summary;
+    println!("profile: {}", args.out.join("profile.csv").display());
+    println!("summary: {}", args.out.join("summary.json").display());
+    println!(
+        "N = {}, dt = {:.3e} ({}), steps = {}, steady at strain {:.2}, wall {:.1} s, {:.3e} particle-steps/s",
+        s.n_particles, s.dt, s.dt_limit, s.steps, s.strain_to_steady, s.wall_s, s.particle_steps_per_s
+    );
+    match s.momentum_residual {
+        Some(r) => println!("momentum residual {:.3} of the drag scale; mean overlap {:.2e} a, max {:.2e}", r, s.mean_overlap, s.max_overlap),
+        None => println!("momentum residual: n/a (drag off); mean overlap {:.2e} a", s.mean_overlap),
+    }
+    for w in &s.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(())
+}

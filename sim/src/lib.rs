@@ -3,3 +3,4 @@
 
 pub mod error;
 pub mod flow_profile;
+pub mod packing;

@@ -167,7 +167,10 @@ impl Booster {
             &finite_f32(features, "training features")?,
             features.nrows(),
         )?;
+        // Row-major rows x outputs: XGBoost takes the number of targets from the label count.
         dtrain.set_labels(&finite_f32(labels, "training labels")?)?;
+        // `xgb` first applies its own parameter defaults; every setting that matters is
+        // overridden right after.
         let mut inner = xgb::Booster::new_with_cached_dmats(&Default::default(), &[&dtrain])?;
         for (name, value) in params.as_xgboost_params() {
             inner.set_param(name, &value)?;

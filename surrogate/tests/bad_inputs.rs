@@ -203,3 +203,18 @@ fn log_baseline_refuses_a_non_positive_feature_naming_its_row() {
     );
     assert!(evaluate_baseline(Baseline::Linear, &samples, &samples).is_ok());
 }
+
+#[test]
+fn xgboost_refusal_carries_the_library_message() {
+    let data = synthetic_dataset(2, 10, 6);
+    let params = HyperParameters {
+        subsample: 1.5,
+        ..HyperParameters::default()
+    };
+    let error = TrainedModel::train(Mapping::by_name("mu").unwrap(), &data, &params).unwrap_err();
+    assert!(matches!(error, SurrogateError::Xgboost(_)), "{error:?}");
+    assert!(
+        error.to_string().starts_with("XGBoost: ") && error.to_string().contains("subsample"),
+        "{error}"
+    );
+}

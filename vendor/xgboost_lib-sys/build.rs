@@ -31,7 +31,10 @@ fn main() {
     };
     let library = lib_dir.join("libxgboost.so");
     if !library.is_file() {
-        panic!("{} does not exist: point XGBOOST_LIB_DIR at a directory holding libxgboost.so", library.display());
+        panic!(
+            "{} does not exist: point XGBOOST_LIB_DIR at a directory holding libxgboost.so",
+            library.display()
+        );
     }
     println!("cargo:rerun-if-changed={}", library.display());
     println!("cargo:rustc-link-search=native={}", lib_dir.display());
@@ -42,7 +45,8 @@ fn main() {
 /// The `lib/` directory of the pinned wheel under `<workspace>/target/xgboost`, installing the
 /// wheel first when that version is not there yet.
 fn wheel_lib_dir() -> PathBuf {
-    let manifest_dir = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
+    let manifest_dir =
+        PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
     // This crate lives in `<workspace>/vendor/xgboost_lib-sys`.
     let workspace = manifest_dir
         .parent()
@@ -58,14 +62,20 @@ fn wheel_lib_dir() -> PathBuf {
 /// Whether `prefix` holds the pinned wheel version with its shared library.
 fn is_installed(prefix: &Path) -> bool {
     let dist_info = format!("{}-{WHEEL_VERSION}.dist-info", WHEEL.replace('-', "_"));
-    prefix.join(dist_info).is_dir() && prefix.join("xgboost").join("lib").join("libxgboost.so").is_file()
+    prefix.join(dist_info).is_dir()
+        && prefix
+            .join("xgboost")
+            .join("lib")
+            .join("libxgboost.so")
+            .is_file()
 }
 
 /// Installs the wheel into a staging directory, then moves it to `prefix` in one rename, so
 /// that an interrupted or concurrent build never leaves a half-written `prefix` behind.
 fn install_wheel(prefix: &Path) {
     let parent = prefix.parent().expect("prefix has a parent");
-    fs::create_dir_all(parent).unwrap_or_else(|e| panic!("cannot create {}: {e}", parent.display()));
+    fs::create_dir_all(parent)
+        .unwrap_or_else(|e| panic!("cannot create {}: {e}", parent.display()));
     let staging = parent.join(format!("xgboost.partial-{}", std::process::id()));
     // Left over from an interrupted build with the same process id, if any.
     let _ = fs::remove_dir_all(&staging);
@@ -91,7 +101,11 @@ fn install_wheel(prefix: &Path) {
         let _ = fs::remove_dir_all(&staging);
         // A concurrent build may have installed it in the meantime.
         if !is_installed(prefix) {
-            panic!("cannot move {} to {}: {e}", staging.display(), prefix.display());
+            panic!(
+                "cannot move {} to {}: {e}",
+                staging.display(),
+                prefix.display()
+            );
         }
     }
 }

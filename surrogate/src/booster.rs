@@ -12,6 +12,7 @@ use ndarray::{Array2, ArrayView2};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SurrogateError};
+use crate::files;
 
 /// How a booster with several outputs grows its trees (XGBoost's `multi_strategy`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -233,23 +234,13 @@ impl Booster {
 
     /// Writes the model in XGBoost's JSON format, loadable by Python's `xgboost.Booster`.
     pub fn save_json(&self, path: &Path) -> Result<()> {
-        std::fs::write(path, self.to_json()?).map_err(|source| SurrogateError::Io {
-            path: path.to_path_buf(),
-            source,
-        })
+        files::write(path, &self.to_json()?)
     }
 
     /// Reads a model written by [`Booster::save_json`] (or by XGBoost itself, in JSON).
     pub fn load_json(path: &Path) -> Result<Self> {
-        let json = std::fs::read(path).map_err(|source| SurrogateError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let model: ModelJson =
-            serde_json::from_slice(&json).map_err(|source| SurrogateError::Json {
-                path: path.to_path_buf(),
-                source,
-            })?;
+        let json = files::read(path)?;
+        let model: ModelJson = files::parse_json(path, &json)?;
         let shape = &model.learner.learner_model_param;
         let count = |name: &str, text: &str| {
             text.parse::<usize>().map_err(|_| {

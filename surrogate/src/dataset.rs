@@ -10,6 +10,7 @@ use std::path::Path;
 use ndarray::Array2;
 
 use crate::error::{Result, SurrogateError};
+use crate::files;
 use crate::fingerprint::fnv1a_64;
 
 /// The column whose value names the simulation a row comes from: the grouping key for
@@ -49,10 +50,7 @@ impl Dataset {
     /// Reads a CSV file with a header line.
     pub fn read_csv(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|source| SurrogateError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let bytes = files::read(path)?;
         Self::from_csv_bytes(&bytes, &path.display().to_string())
     }
 

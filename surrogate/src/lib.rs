@@ -17,6 +17,7 @@ pub mod booster;
 pub mod cross_validation;
 pub mod dataset;
 pub mod error;
+mod files;
 mod fingerprint;
 pub mod mapping;
 pub mod metrics;

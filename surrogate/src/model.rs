@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::booster::{xgboost_version, Booster, HyperParameters};
 use crate::dataset::Dataset;
 use crate::error::{Result, SurrogateError};
+use crate::files;
 use crate::mapping::Mapping;
 use crate::metrics::relative_l2_error;
 use crate::samples::Samples;
@@ -138,21 +139,10 @@ impl TrainedModel {
     /// Writes `<dir>/<mapping>.json` (the booster, XGBoost JSON) and `<dir>/<mapping>.meta.json`,
     /// creating `dir` if needed.
     pub fn save(&self, dir: &Path) -> Result<()> {
-        std::fs::create_dir_all(dir).map_err(|source| SurrogateError::Io {
-            path: dir.to_path_buf(),
-            source,
-        })?;
+        files::create_dir_all(dir)?;
         let (booster_path, meta_path) = Self::paths(dir, &self.meta.mapping);
         self.booster.save_json(&booster_path)?;
-        let meta =
-            serde_json::to_vec_pretty(&self.meta).map_err(|source| SurrogateError::Json {
-                path: meta_path.clone(),
-                source,
-            })?;
-        std::fs::write(&meta_path, meta).map_err(|source| SurrogateError::Io {
-            path: meta_path,
-            source,
-        })
+        files::write_json(&meta_path, &self.meta)
     }
 
     /// Reads the model of mapping `name` saved in `dir`, checking that the sidecar, the
@@ -160,15 +150,7 @@ impl TrainedModel {
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         let mapping = Mapping::by_name(name)?;
         let (booster_path, meta_path) = Self::paths(dir, name);
-        let meta_bytes = std::fs::read(&meta_path).map_err(|source| SurrogateError::Io {
-            path: meta_path.clone(),
-            source,
-        })?;
-        let meta: ModelMeta =
-            serde_json::from_slice(&meta_bytes).map_err(|source| SurrogateError::Json {
-                path: meta_path.clone(),
-                source,
-            })?;
+        let meta: ModelMeta = files::read_json(&meta_path)?;
         let booster = Booster::load_json(&booster_path)?;
         let mismatch = |detail: String| SurrogateError::FeatureMismatch {
             detail,

@@ -1,1 +1,40 @@
-//! Surrogate models of local rheology (SPEC section 8). Filled in by issue 4.
+//! Surrogate models of local rheology (SPEC section 8, thesis section 6.2).
+//!
+//! Data flow: a CSV [`Dataset`] (one row per bin per simulation) is seen through a
+//! [`Mapping`] as [`Samples`] (features, outputs, simulation groups); outputs are min-max
+//! scaled to [0, 1] ([`MinMaxScaling`], eq 6.4) and learnt by an XGBoost [`Booster`]
+//! (`reg:squarederror`, eq 6.5). A [`TrainedModel`] is that booster plus a sidecar
+//! ([`ModelMeta`]) and is saved as `<mapping>.json` (XGBoost JSON, loadable from Python) and
+//! `<mapping>.meta.json`. Accuracy is the relative L2 error on scaled outputs
+//! ([`relative_l2_error`], eq 6.6), cross-validated by whole simulations
+//! ([`grouped_k_fold`]) and compared with linear [`baselines`].
+//!
+//! The XGBoost library is the pinned `xgboost-cpu` wheel's `libxgboost.so`, provided by the
+//! workspace's `vendor/xgboost_lib-sys` crate; see its build script.
+
+pub mod baselines;
+pub mod booster;
+pub mod cross_validation;
+pub mod dataset;
+pub mod error;
+mod files;
+mod fingerprint;
+pub mod mapping;
+pub mod metrics;
+pub mod model;
+pub mod samples;
+pub mod scaling;
+
+pub use baselines::{evaluate_baseline, Baseline, BaselineScore};
+pub use booster::{xgboost_version, Booster, HyperParameters, MultiStrategy};
+pub use cross_validation::{
+    cross_validate, grid_search, grouped_k_fold, leave_one_group_out, CvScore, Fold, GridSearch,
+    HyperParameterGrid,
+};
+pub use dataset::{Dataset, GROUP_COLUMN};
+pub use error::{Result, SurrogateError};
+pub use mapping::{Mapping, MAPPINGS};
+pub use metrics::relative_l2_error;
+pub use model::{ModelMeta, TrainedModel, TrainingData};
+pub use samples::Samples;
+pub use scaling::{MinMaxScaling, Range};

@@ -1,0 +1,250 @@
+//! A CSV dataset (SPEC section 8): one row per bin per simulation, named columns.
+//!
+//! Every column keeps its text (used for grouping keys such as `scene_id` or `profile`), and
+//! its numbers when every cell parses as one. Rows are numbered from 1, counting data rows
+//! only (the header is not a data row), in every error message.
+
+use std::collections::HashSet;
+use std::path::Path;
+
+use ndarray::Array2;
+
+use crate::error::{Result, SurrogateError};
+use crate::files;
+use crate::fingerprint::fnv1a_64;
+
+/// The column whose value names the simulation a row comes from: the grouping key for
+/// cross-validation, so that rows of one simulation never sit on both sides of a split.
+pub const GROUP_COLUMN: &str = "scene_id";
+
+/// A table read from CSV, with a fingerprint of the bytes it was read from.
+#[derive(Debug, Clone)]
+pub struct Dataset {
+    source_name: String,
+    names: Vec<String>,
+    columns: Vec<Column>,
+    n_rows: usize,
+    fingerprint: u64,
+}
+
+/// One column as read.
+#[derive(Debug, Clone)]
+struct Column {
+    text: Vec<String>,
+    /// The parsed values, or the 0-based index of the first cell that is not a number.
+    numbers: std::result::Result<Vec<f64>, usize>,
+}
+
+impl Column {
+    fn new(text: Vec<String>) -> Self {
+        let numbers = text
+            .iter()
+            .enumerate()
+            .map(|(i, cell)| cell.parse::<f64>().map_err(|_| i))
+            .collect();
+        Column { text, numbers }
+    }
+}
+
+impl Dataset {
+    /// Reads a CSV file with a header line.
+    pub fn read_csv(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref();
+        let bytes = files::read(path)?;
+        Self::from_csv_bytes(&bytes, &path.display().to_string())
+    }
+
+    /// Parses CSV text with a header line; `source_name` names it in error messages.
+    /// Fails on an empty table, a duplicated column name, or a row with a different number of
+    /// fields than the header.
+    pub fn from_csv_bytes(bytes: &[u8], source_name: &str) -> Result<Self> {
+        let csv_error = |source| SurrogateError::Csv {
+            source_name: source_name.to_owned(),
+            source,
+        };
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(true)
+            .flexible(true)
+            .trim(csv::Trim::All)
+            .from_reader(bytes);
+        let names: Vec<String> = reader
+            .headers()
+            .map_err(csv_error)?
+            .iter()
+            .map(str::to_owned)
+            .collect();
+        let mut seen = HashSet::new();
+        if let Some(duplicate) = names.iter().find(|name| !seen.insert(name.as_str())) {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "{source_name}: column `{duplicate}` appears twice in the header"
+            )));
+        }
+        let mut cells: Vec<Vec<String>> = vec![Vec::new(); names.len()];
+        for (index, record) in reader.records().enumerate() {
+            let record = record.map_err(csv_error)?;
+            if record.len() != names.len() {
+                return Err(SurrogateError::RaggedRow {
+                    source_name: source_name.to_owned(),
+                    row: index + 1,
+                    expected: names.len(),
+                    found: record.len(),
+                });
+            }
+            for (column, field) in cells.iter_mut().zip(record.iter()) {
+                column.push(field.to_owned());
+            }
+        }
+        let n_rows = cells.first().map_or(0, Vec::len);
+        if n_rows == 0 {
+            return Err(SurrogateError::EmptyDataset {
+                what: source_name.to_owned(),
+            });
+        }
+        Ok(Dataset {
+            source_name: source_name.to_owned(),
+            names,
+            columns: cells.into_iter().map(Column::new).collect(),
+            n_rows,
+            fingerprint: fnv1a_64(bytes),
+        })
+    }
+
+    /// Where the data came from (a path, or the name given to [`Dataset::from_csv_bytes`]).
+    pub fn source_name(&self) -> &str {
+        &self.source_name
+    }
+
+    /// Number of data rows (never 0: a dataset without rows is refused when read).
+    pub fn n_rows(&self) -> usize {
+        self.n_rows
+    }
+
+    /// Column names in header order.
+    pub fn column_names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// FNV-1a 64 hash of the CSV bytes the dataset was read from.
+    pub fn fingerprint(&self) -> u64 {
+        self.fingerprint
+    }
+
+    /// The numbers of column `name`, one per row. NaN and infinities are returned as they are
+    /// (a standard error can legitimately be NaN); [`Dataset::matrix`] refuses them.
+    pub fn column(&self, name: &str) -> Result<&[f64]> {
+        let column = self.find(name)?;
+        column
+            .numbers
+            .as_deref()
+            .map_err(|&index| SurrogateError::NotANumber {
+                source_name: self.source_name.clone(),
+                row: index + 1,
+                column: name.to_owned(),
+                text: column.text[index].clone(),
+            })
+    }
+
+    /// The cells of column `name` as text, one per row.
+    pub fn text(&self, name: &str) -> Result<&[String]> {
+        Ok(&self.find(name)?.text)
+    }
+
+    /// The grouping key of each row: the text of [`GROUP_COLUMN`].
+    pub fn group_keys(&self) -> Result<&[String]> {
+        self.text(GROUP_COLUMN)
+    }
+
+    /// The columns `names`, in that order, as a rows x columns matrix of finite numbers.
+    pub fn matrix(&self, names: &[&str]) -> Result<Array2<f64>> {
+        let mut matrix = Array2::zeros((self.n_rows, names.len()));
+        for (j, &name) in names.iter().enumerate() {
+            for (i, &value) in self.column(name)?.iter().enumerate() {
+                if !value.is_finite() {
+                    return Err(SurrogateError::NonFinite {
+                        source_name: self.source_name.clone(),
+                        row: i + 1,
+                        column: name.to_owned(),
+                        value,
+                    });
+                }
+                matrix[[i, j]] = value;
+            }
+        }
+        Ok(matrix)
+    }
+
+    fn find(&self, name: &str) -> Result<&Column> {
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .map(|index| &self.columns[index])
+            .ok_or_else(|| SurrogateError::MissingColumn {
+                source_name: self.source_name.clone(),
+                name: name.to_owned(),
+                available: self.names.clone(),
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CSV: &str =
+        "scene_id,profile,J,mu_se\ns1,sin,0.1,nan\ns1,sin,0.2,0.01\ns2,cos,0.3,0.02\n";
+
+    #[test]
+    fn reads_numbers_text_and_groups() {
+        let data = Dataset::from_csv_bytes(CSV.as_bytes(), "t").unwrap();
+        assert_eq!(data.n_rows(), 3);
+        assert_eq!(data.column("J").unwrap(), &[0.1, 0.2, 0.3]);
+        assert_eq!(data.group_keys().unwrap(), &["s1", "s1", "s2"]);
+        assert_eq!(data.text("profile").unwrap()[2], "cos");
+        assert!(data.column("mu_se").unwrap()[0].is_nan());
+        assert_eq!(
+            data.matrix(&["J"]).unwrap().column(0).to_vec(),
+            vec![0.1, 0.2, 0.3]
+        );
+    }
+
+    #[test]
+    fn text_in_a_numeric_column_names_row_and_column() {
+        let data = Dataset::from_csv_bytes(CSV.as_bytes(), "t").unwrap();
+        let message = data.column("profile").unwrap_err().to_string();
+        assert!(
+            message.contains("data row 1")
+                && message.contains("`profile`")
+                && message.contains("`sin`"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn ragged_row_and_duplicate_header_are_refused() {
+        let ragged = Dataset::from_csv_bytes(b"a,b\n1,2\n3\n", "t").unwrap_err();
+        assert!(
+            matches!(
+                ragged,
+                SurrogateError::RaggedRow {
+                    row: 2,
+                    expected: 2,
+                    found: 1,
+                    ..
+                }
+            ),
+            "{ragged}"
+        );
+        let duplicate = Dataset::from_csv_bytes(b"a,a\n1,2\n", "t").unwrap_err();
+        assert!(
+            duplicate.to_string().contains("`a` appears twice"),
+            "{duplicate}"
+        );
+    }
+
+    #[test]
+    fn fingerprint_follows_the_bytes() {
+        let a = Dataset::from_csv_bytes(b"x\n1\n", "t").unwrap();
+        let b = Dataset::from_csv_bytes(b"x\n2\n", "t").unwrap();
+        assert_ne!(a.fingerprint(), b.fingerprint());
+    }
+}

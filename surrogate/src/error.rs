@@ -1,0 +1,115 @@
+//! The crate's single error type.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in this crate, with enough context to act on the message.
+#[derive(Debug, thiserror::Error)]
+pub enum SurrogateError {
+    /// A column the caller asked for is not in the dataset.
+    #[error("{source_name}: no column `{name}`; available columns: {}", available.join(", "))]
+    MissingColumn {
+        source_name: String,
+        name: String,
+        available: Vec<String>,
+    },
+
+    /// A column that must hold numbers holds text that does not parse as one.
+    #[error("{source_name}: data row {row}, column `{column}`: `{text}` is not a number")]
+    NotANumber {
+        source_name: String,
+        row: usize,
+        column: String,
+        text: String,
+    },
+
+    /// A NaN or infinite value where a finite number is needed (`row` counts data rows from 1).
+    #[error("{source_name}: data row {row}, column `{column}`: {value} is not a finite number")]
+    NonFinite {
+        source_name: String,
+        row: usize,
+        column: String,
+        value: f64,
+    },
+
+    /// A value that must be positive (e.g. to take its logarithm) is not.
+    #[error("{source_name}: data row {row}, column `{column}`: {value} is not positive, so it has no logarithm")]
+    NonPositive {
+        source_name: String,
+        row: usize,
+        column: String,
+        value: f64,
+    },
+
+    /// A dataset, or a part of it that must hold rows, holds none.
+    #[error("{what} holds no data rows")]
+    EmptyDataset { what: String },
+
+    /// A CSV record has a different number of fields than the header.
+    #[error("{source_name}: data row {row} has {found} fields, the header has {expected}")]
+    RaggedRow {
+        source_name: String,
+        row: usize,
+        expected: usize,
+        found: usize,
+    },
+
+    /// The input does not carry the features a model was trained on, or a model's parts disagree.
+    #[error("feature mismatch: {detail}; the model expects features [{}], the input has [{}]", expected.join(", "), found.join(", "))]
+    FeatureMismatch {
+        detail: String,
+        expected: Vec<String>,
+        found: Vec<String>,
+    },
+
+    /// Two arrays that must have the same shape do not.
+    #[error("shape mismatch in {what}: expected {expected:?}, found {found:?}")]
+    ShapeMismatch {
+        what: String,
+        expected: (usize, usize),
+        found: (usize, usize),
+    },
+
+    /// No mapping has this name.
+    #[error("unknown mapping `{name}`; known mappings: {}", known.join(", "))]
+    UnknownMapping { name: String, known: Vec<String> },
+
+    /// An argument outside its valid range (e.g. more folds than groups).
+    #[error("invalid argument: {0}")]
+    InvalidArgument(String),
+
+    /// The XGBoost library reported an error; the message is the library's own.
+    #[error("XGBoost: {0}")]
+    Xgboost(String),
+
+    /// An XGBoost JSON model lacks a field this crate reads.
+    #[error("unexpected XGBoost JSON model: {0}")]
+    ModelFormat(String),
+
+    /// A linear baseline could not be fitted.
+    #[error("linear baseline: {0}")]
+    Baseline(#[from] linfa_linear::LinearError<f64>),
+
+    /// Reading or writing a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+
+    /// A CSV source is malformed.
+    #[error("{source_name}: {source}")]
+    Csv {
+        source_name: String,
+        source: csv::Error,
+    },
+
+    /// A JSON file is malformed or cannot be written.
+    #[error("{}: {source}", path.display())]
+    Json {
+        path: PathBuf,
+        source: serde_json::Error,
+    },
+}
+
+/// Result type of this crate.
+pub type Result<T> = std::result::Result<T, SurrogateError>;

@@ -1,0 +1,65 @@
+//! The input -> output mappings learnt by the surrogate (SPEC section 8, thesis section 6.2).
+
+use crate::error::{Result, SurrogateError};
+
+/// Which dataset columns a model reads (features) and which it predicts (outputs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Mapping {
+    /// Short name, used on the command line and in model file names.
+    pub name: &'static str,
+    /// Feature columns, in the order the model sees them.
+    pub features: &'static [&'static str],
+    /// Output columns, in the order the model predicts them.
+    pub outputs: &'static [&'static str],
+}
+
+/// The three mappings of SPEC section 8.
+pub const MAPPINGS: [Mapping; 3] = [
+    // Motivated by the scaling law J/mu = alpha (phi_J - phi_loc)^2 (thesis eq 6.7).
+    Mapping {
+        name: "mu",
+        features: &["J", "phi_loc", "phi"],
+        outputs: &["mu"],
+    },
+    // The suspension temperature Theta carries the non-local information (thesis eqs 6.8-6.9).
+    Mapping {
+        name: "theta",
+        features: &["J", "Theta", "phi"],
+        outputs: &["phi_loc", "mu"],
+    },
+    // Delta_v, measurable from average velocities alone, in place of Theta.
+    Mapping {
+        name: "dv",
+        features: &["J", "Delta_v", "phi"],
+        outputs: &["phi_loc", "mu"],
+    },
+];
+
+impl Mapping {
+    /// The mapping called `name`, or an error listing the known names.
+    pub fn by_name(name: &str) -> Result<&'static Mapping> {
+        MAPPINGS
+            .iter()
+            .find(|m| m.name == name)
+            .ok_or_else(|| SurrogateError::UnknownMapping {
+                name: name.to_owned(),
+                known: MAPPINGS.iter().map(|m| m.name.to_owned()).collect(),
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_each_mapping_by_its_name() {
+        for mapping in &MAPPINGS {
+            assert_eq!(Mapping::by_name(mapping.name).unwrap(), mapping);
+        }
+        assert_eq!(
+            Mapping::by_name("theta").unwrap().outputs,
+            &["phi_loc", "mu"]
+        );
+    }
+}

@@ -1,0 +1,227 @@
+//! A trained mapping: an XGBoost booster on min-max scaled outputs, plus the sidecar that says
+//! how to use it (`<mapping>.meta.json` next to `<mapping>.json`).
+
+use std::path::{Path, PathBuf};
+
+use ndarray::{Array2, ArrayView2};
+use serde::{Deserialize, Serialize};
+
+use crate::booster::{xgboost_version, Booster, HyperParameters};
+use crate::dataset::Dataset;
+use crate::error::{Result, SurrogateError};
+use crate::files;
+use crate::mapping::Mapping;
+use crate::metrics::relative_l2_error;
+use crate::samples::Samples;
+use crate::scaling::MinMaxScaling;
+
+/// Everything about a trained model except its trees.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelMeta {
+    /// Name of the [`Mapping`].
+    pub mapping: String,
+    /// Feature columns, in the order the booster reads them.
+    pub features: Vec<String>,
+    /// Output columns, in the order the booster predicts them.
+    pub outputs: Vec<String>,
+    /// Ranges of the outputs in the training set; the booster predicts scaled outputs.
+    pub scaling: MinMaxScaling,
+    pub hyper_parameters: HyperParameters,
+    pub training_data: TrainingData,
+    /// Version of the XGBoost library that trained the booster.
+    pub xgboost_version: String,
+}
+
+/// Which data a model was trained on.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrainingData {
+    /// The file (or other source) the rows came from.
+    pub source: String,
+    /// FNV-1a 64 hash of that source's bytes, as 16 hex digits.
+    pub fnv1a_64: String,
+    /// Number of rows used for training.
+    pub rows: usize,
+}
+
+/// A booster with its sidecar.
+#[derive(Debug)]
+pub struct TrainedModel {
+    meta: ModelMeta,
+    booster: Booster,
+}
+
+impl TrainedModel {
+    /// Trains `mapping` on all rows of `dataset`.
+    pub fn train(mapping: &Mapping, dataset: &Dataset, params: &HyperParameters) -> Result<Self> {
+        Self::fit(mapping, &Samples::from_dataset(dataset, mapping)?, params)
+    }
+
+    /// Trains `mapping` on `samples`: outputs are min-max scaled on these samples, then learnt.
+    pub fn fit(mapping: &Mapping, samples: &Samples, params: &HyperParameters) -> Result<Self> {
+        check_columns(samples, mapping.features, mapping.outputs)?;
+        let scaling = MinMaxScaling::fit(samples.outputs.view())?;
+        let scaled = scaling.scale(samples.outputs.view())?;
+        let booster = Booster::train(
+            samples.features.view(),
+            scaled.view(),
+            mapping.features,
+            params,
+        )?;
+        let meta = ModelMeta {
+            mapping: mapping.name.to_owned(),
+            features: samples.feature_names.clone(),
+            outputs: samples.output_names.clone(),
+            scaling,
+            hyper_parameters: params.clone(),
+            training_data: TrainingData {
+                source: samples.source_name.clone(),
+                fnv1a_64: format!("{:016x}", samples.source_fingerprint),
+                rows: samples.n_rows(),
+            },
+            xgboost_version: xgboost_version(),
+        };
+        Ok(TrainedModel { meta, booster })
+    }
+
+    /// The sidecar.
+    pub fn meta(&self) -> &ModelMeta {
+        &self.meta
+    }
+
+    /// Predictions in original units (rows x outputs) for the feature columns of `dataset`.
+    pub fn predict(&self, dataset: &Dataset) -> Result<Array2<f64>> {
+        let available = dataset.column_names();
+        let missing: Vec<&str> = self
+            .meta
+            .features
+            .iter()
+            .filter(|f| !available.contains(f))
+            .map(String::as_str)
+            .collect();
+        if !missing.is_empty() {
+            return Err(SurrogateError::FeatureMismatch {
+                detail: format!(
+                    "{} lacks column(s) {}",
+                    dataset.source_name(),
+                    missing.join(", ")
+                ),
+                expected: self.meta.features.clone(),
+                found: available.to_vec(),
+            });
+        }
+        let names: Vec<&str> = self.meta.features.iter().map(String::as_str).collect();
+        self.predict_features(dataset.matrix(&names)?.view())
+    }
+
+    /// Predictions in original units for a rows x features matrix, columns in
+    /// [`ModelMeta::features`] order.
+    pub fn predict_features(&self, features: ArrayView2<f64>) -> Result<Array2<f64>> {
+        self.meta
+            .scaling
+            .unscale(self.booster.predict(features)?.view())
+    }
+
+    /// Relative L2 error of each output on `samples` (SPEC metric, thesis eq 6.6), on outputs
+    /// scaled with the training set's ranges.
+    pub fn evaluate(&self, samples: &Samples) -> Result<Vec<f64>> {
+        check_columns(samples, &self.meta.features, &self.meta.outputs)?;
+        let truth = self.meta.scaling.scale(samples.outputs.view())?;
+        let predicted = self.booster.predict(samples.features.view())?;
+        relative_l2_error(truth.view(), predicted.view())
+    }
+
+    /// Gain importance of each feature (see [`Booster::feature_importance_gain`]).
+    pub fn feature_importance(&self) -> Result<Vec<(String, f64)>> {
+        let gains = self.booster.feature_importance_gain()?;
+        Ok(self.meta.features.iter().cloned().zip(gains).collect())
+    }
+
+    /// Writes `<dir>/<mapping>.json` (the booster, XGBoost JSON) and `<dir>/<mapping>.meta.json`,
+    /// creating `dir` if needed.
+    pub fn save(&self, dir: &Path) -> Result<()> {
+        files::create_dir_all(dir)?;
+        let (booster_path, meta_path) = Self::paths(dir, &self.meta.mapping);
+        self.booster.save_json(&booster_path)?;
+        files::write_json(&meta_path, &self.meta)
+    }
+
+    /// Reads the model of mapping `name` saved in `dir`, checking that the sidecar, the
+    /// booster and the mapping's current definition agree on features and outputs.
+    pub fn load(dir: &Path, name: &str) -> Result<Self> {
+        let mapping = Mapping::by_name(name)?;
+        let (booster_path, meta_path) = Self::paths(dir, name);
+        let meta: ModelMeta = files::read_json(&meta_path)?;
+        let booster = Booster::load_json(&booster_path)?;
+        let mismatch = |detail: String| SurrogateError::FeatureMismatch {
+            detail,
+            expected: mapping.features.iter().map(|&s| s.to_owned()).collect(),
+            found: meta.features.clone(),
+        };
+        if meta.mapping != mapping.name
+            || meta.features != mapping.features
+            || meta.outputs != mapping.outputs
+        {
+            return Err(mismatch(format!(
+                "{} describes mapping `{}` with outputs [{}], but mapping `{}` now has outputs [{}]",
+                meta_path.display(),
+                meta.mapping,
+                meta.outputs.join(", "),
+                mapping.name,
+                mapping.outputs.join(", ")
+            )));
+        }
+        if booster.n_features() != meta.features.len()
+            || booster.n_outputs() != meta.outputs.len()
+            || meta.scaling.ranges.len() != meta.outputs.len()
+        {
+            return Err(mismatch(format!(
+                "{} has {} features and {} outputs, {} lists {} and {} (with {} scaling ranges)",
+                booster_path.display(),
+                booster.n_features(),
+                booster.n_outputs(),
+                meta_path.display(),
+                meta.features.len(),
+                meta.outputs.len(),
+                meta.scaling.ranges.len()
+            )));
+        }
+        Ok(TrainedModel { meta, booster })
+    }
+
+    /// `<dir>/<name>.json` and `<dir>/<name>.meta.json`.
+    fn paths(dir: &Path, name: &str) -> (PathBuf, PathBuf) {
+        (
+            dir.join(format!("{name}.json")),
+            dir.join(format!("{name}.meta.json")),
+        )
+    }
+}
+
+/// Fails unless `samples` holds exactly the columns `features` -> `outputs`, in that order.
+fn check_columns<S: AsRef<str>>(samples: &Samples, features: &[S], outputs: &[S]) -> Result<()> {
+    let same = |names: &[String], expected: &[S]| {
+        names
+            .iter()
+            .map(String::as_str)
+            .eq(expected.iter().map(AsRef::as_ref))
+    };
+    if same(&samples.feature_names, features) && same(&samples.output_names, outputs) {
+        return Ok(());
+    }
+    let owned = |names: &[S]| {
+        names
+            .iter()
+            .map(|n| n.as_ref().to_owned())
+            .collect::<Vec<_>>()
+    };
+    Err(SurrogateError::FeatureMismatch {
+        detail: format!(
+            "samples of {} map to outputs [{}], the model to outputs [{}]",
+            samples.source_name,
+            samples.output_names.join(", "),
+            owned(outputs).join(", ")
+        ),
+        expected: owned(features),
+        found: samples.feature_names.clone(),
+    })
+}

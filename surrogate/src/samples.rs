@@ -1,0 +1,69 @@
+//! The rows of a dataset as one mapping sees them: features, outputs, and simulation groups.
+
+use ndarray::{Array2, Axis};
+
+use crate::dataset::Dataset;
+use crate::error::{Result, SurrogateError};
+use crate::mapping::Mapping;
+
+/// Feature and output matrices of one mapping, with the group (simulation) of each row and
+/// the row's number in the source dataset (from 1), for error messages.
+#[derive(Debug, Clone)]
+pub struct Samples {
+    /// Where the rows came from.
+    pub source_name: String,
+    /// FNV-1a 64 hash of the source file's bytes.
+    pub source_fingerprint: u64,
+    pub feature_names: Vec<String>,
+    pub output_names: Vec<String>,
+    /// Rows x features, all finite.
+    pub features: Array2<f64>,
+    /// Rows x outputs, all finite, in original units.
+    pub outputs: Array2<f64>,
+    /// Grouping key of each row (see [`crate::dataset::GROUP_COLUMN`]).
+    pub groups: Vec<String>,
+    /// 1-based data row of each row in the source dataset.
+    pub data_rows: Vec<usize>,
+}
+
+impl Samples {
+    /// Selects `mapping`'s feature and output columns and the group keys of `dataset`.
+    pub fn from_dataset(dataset: &Dataset, mapping: &Mapping) -> Result<Self> {
+        Ok(Samples {
+            source_name: dataset.source_name().to_owned(),
+            source_fingerprint: dataset.fingerprint(),
+            feature_names: mapping.features.iter().map(|&s| s.to_owned()).collect(),
+            output_names: mapping.outputs.iter().map(|&s| s.to_owned()).collect(),
+            features: dataset.matrix(mapping.features)?,
+            outputs: dataset.matrix(mapping.outputs)?,
+            groups: dataset.group_keys()?.to_vec(),
+            data_rows: (1..=dataset.n_rows()).collect(),
+        })
+    }
+
+    /// Number of rows.
+    pub fn n_rows(&self) -> usize {
+        self.groups.len()
+    }
+
+    /// The rows `rows` (0-based indices into these samples), in that order.
+    pub fn subset(&self, rows: &[usize]) -> Result<Self> {
+        if let Some(&bad) = rows.iter().find(|&&row| row >= self.n_rows()) {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "row index {bad} is out of range for {} rows of {}",
+                self.n_rows(),
+                self.source_name
+            )));
+        }
+        Ok(Samples {
+            source_name: self.source_name.clone(),
+            source_fingerprint: self.source_fingerprint,
+            feature_names: self.feature_names.clone(),
+            output_names: self.output_names.clone(),
+            features: self.features.select(Axis(0), rows),
+            outputs: self.outputs.select(Axis(0), rows),
+            groups: rows.iter().map(|&row| self.groups[row].clone()).collect(),
+            data_rows: rows.iter().map(|&row| self.data_rows[row]).collect(),
+        })
+    }
+}

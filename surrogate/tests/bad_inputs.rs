@@ -1,0 +1,220 @@
+//! Bad input gives the right error variant with a message that says what to fix.
+
+mod common;
+
+use common::{scratch_dir, synthetic_csv, synthetic_dataset};
+use surrogate::{
+    evaluate_baseline, Baseline, Dataset, HyperParameters, Mapping, Samples, SurrogateError,
+    TrainedModel,
+};
+
+/// `synthetic_csv` with the cell of `column` in data row `row` (from 1) replaced by `text`.
+fn with_cell(column: &str, row: usize, text: &str) -> String {
+    let csv = synthetic_csv(2, 10, 7);
+    let mut lines: Vec<String> = csv.lines().map(str::to_owned).collect();
+    let index = lines[0].split(',').position(|name| name == column).unwrap();
+    let mut cells: Vec<&str> = lines[row].split(',').collect();
+    cells[index] = text;
+    lines[row] = cells.join(",");
+    lines.join("\n") + "\n"
+}
+
+#[test]
+fn missing_column_is_named_with_the_available_ones() {
+    let csv = synthetic_csv(2, 5, 1).replace("Theta,", "Theta_typo,");
+    let data = Dataset::from_csv_bytes(csv.as_bytes(), "no_theta.csv").unwrap();
+    let error = Samples::from_dataset(&data, Mapping::by_name("theta").unwrap()).unwrap_err();
+    let message = error.to_string();
+    assert!(
+        matches!(&error, SurrogateError::MissingColumn { name, .. } if name == "Theta"),
+        "{error:?}"
+    );
+    assert!(
+        message.contains("`Theta`")
+            && message.contains("Theta_typo")
+            && message.contains("no_theta.csv"),
+        "{message}"
+    );
+}
+
+#[test]
+fn nan_names_its_data_row_and_column() {
+    let data = Dataset::from_csv_bytes(with_cell("J", 7, "nan").as_bytes(), "bad.csv").unwrap();
+    let error = Samples::from_dataset(&data, Mapping::by_name("mu").unwrap()).unwrap_err();
+    assert!(
+        matches!(&error, SurrogateError::NonFinite { row: 7, column, .. } if column == "J"),
+        "{error:?}"
+    );
+    assert!(
+        error.to_string().contains("data row 7, column `J`"),
+        "{error}"
+    );
+}
+
+#[test]
+fn infinity_and_text_are_refused_too() {
+    let data = Dataset::from_csv_bytes(with_cell("mu", 3, "inf").as_bytes(), "bad.csv").unwrap();
+    let error = TrainedModel::train(
+        Mapping::by_name("mu").unwrap(),
+        &data,
+        &HyperParameters::default(),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&error, SurrogateError::NonFinite { row: 3, column, .. } if column == "mu"),
+        "{error:?}"
+    );
+
+    let data = Dataset::from_csv_bytes(with_cell("phi", 4, "0.5x").as_bytes(), "bad.csv").unwrap();
+    let error = Samples::from_dataset(&data, Mapping::by_name("dv").unwrap()).unwrap_err();
+    assert!(
+        matches!(&error, SurrogateError::NotANumber { row: 4, .. }),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("`0.5x`"), "{error}");
+}
+
+#[test]
+fn empty_dataset_is_refused() {
+    let header_only = synthetic_csv(1, 1, 1).lines().next().unwrap().to_owned() + "\n";
+    for csv in [header_only.as_str(), ""] {
+        let error = Dataset::from_csv_bytes(csv.as_bytes(), "empty.csv").unwrap_err();
+        assert!(
+            matches!(error, SurrogateError::EmptyDataset { .. }),
+            "{error:?}"
+        );
+        assert!(
+            error.to_string().contains("empty.csv holds no data rows"),
+            "{error}"
+        );
+    }
+}
+
+#[test]
+fn missing_file_names_its_path() {
+    let error = Dataset::read_csv("/nonexistent/dataset.csv").unwrap_err();
+    assert!(matches!(error, SurrogateError::Io { .. }), "{error:?}");
+    assert!(
+        error.to_string().contains("/nonexistent/dataset.csv"),
+        "{error}"
+    );
+}
+
+#[test]
+fn model_whose_sidecar_disagrees_is_refused_on_load() {
+    let data = synthetic_dataset(2, 10, 2);
+    let dir = scratch_dir("tampered_sidecar");
+    TrainedModel::train(
+        Mapping::by_name("mu").unwrap(),
+        &data,
+        &HyperParameters::default(),
+    )
+    .unwrap()
+    .save(&dir)
+    .unwrap();
+    let meta_path = dir.join("mu.meta.json");
+    let meta = std::fs::read_to_string(&meta_path).unwrap();
+    std::fs::write(&meta_path, meta.replacen("\"phi_loc\"", "\"Theta\"", 1)).unwrap();
+    let error = TrainedModel::load(&dir, "mu").unwrap_err();
+    assert!(
+        matches!(error, SurrogateError::FeatureMismatch { .. }),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("Theta"), "{error}");
+}
+
+#[test]
+fn model_whose_booster_disagrees_is_refused_on_load() {
+    let data = synthetic_dataset(2, 10, 3);
+    let dir = scratch_dir("swapped_booster");
+    for name in ["mu", "theta"] {
+        TrainedModel::train(
+            Mapping::by_name(name).unwrap(),
+            &data,
+            &HyperParameters::default(),
+        )
+        .unwrap()
+        .save(&dir)
+        .unwrap();
+    }
+    // The two-output booster of `theta` under the one-output sidecar of `mu`.
+    std::fs::copy(dir.join("theta.json"), dir.join("mu.json")).unwrap();
+    let error = TrainedModel::load(&dir, "mu").unwrap_err();
+    assert!(
+        matches!(error, SurrogateError::FeatureMismatch { .. }),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("2 outputs"), "{error}");
+}
+
+#[test]
+fn input_lacking_a_model_feature_is_refused_on_predict() {
+    let data = synthetic_dataset(2, 10, 4);
+    let dir = scratch_dir("predict_mismatch");
+    TrainedModel::train(
+        Mapping::by_name("theta").unwrap(),
+        &data,
+        &HyperParameters::default(),
+    )
+    .unwrap()
+    .save(&dir)
+    .unwrap();
+    let model = TrainedModel::load(&dir, "theta").unwrap();
+    let csv = synthetic_csv(1, 5, 5).replace("Theta,", "Temperature,");
+    let input = Dataset::from_csv_bytes(csv.as_bytes(), "new.csv").unwrap();
+    let error = model.predict(&input).unwrap_err();
+    assert!(
+        matches!(error, SurrogateError::FeatureMismatch { .. }),
+        "{error:?}"
+    );
+    let message = error.to_string();
+    assert!(
+        message.contains("new.csv lacks column(s) Theta") && message.contains("Temperature"),
+        "{message}"
+    );
+}
+
+#[test]
+fn unknown_mapping_lists_the_known_ones() {
+    let error = Mapping::by_name("viscosity").unwrap_err();
+    assert!(
+        matches!(&error, SurrogateError::UnknownMapping { name, .. } if name == "viscosity"),
+        "{error:?}"
+    );
+    assert!(
+        error.to_string().contains("known mappings: mu, theta, dv"),
+        "{error}"
+    );
+    let error = TrainedModel::load(&scratch_dir("unknown_mapping"), "viscosity").unwrap_err();
+    assert!(
+        matches!(error, SurrogateError::UnknownMapping { .. }),
+        "{error:?}"
+    );
+}
+
+#[test]
+fn log_baseline_refuses_a_non_positive_feature_naming_its_row() {
+    let data = Dataset::from_csv_bytes(with_cell("J", 5, "0").as_bytes(), "zero.csv").unwrap();
+    let samples = Samples::from_dataset(&data, Mapping::by_name("mu").unwrap()).unwrap();
+    let error = evaluate_baseline(Baseline::LogLinear, &samples, &samples).unwrap_err();
+    assert!(
+        matches!(&error, SurrogateError::NonPositive { row: 5, column, .. } if column == "J"),
+        "{error:?}"
+    );
+    assert!(evaluate_baseline(Baseline::Linear, &samples, &samples).is_ok());
+}
+
+#[test]
+fn xgboost_refusal_carries_the_library_message() {
+    let data = synthetic_dataset(2, 10, 6);
+    let params = HyperParameters {
+        subsample: 1.5,
+        ..HyperParameters::default()
+    };
+    let error = TrainedModel::train(Mapping::by_name("mu").unwrap(), &data, &params).unwrap_err();
+    assert!(matches!(error, SurrogateError::Xgboost(_)), "{error:?}");
+    assert!(
+        error.to_string().starts_with("XGBoost: ") && error.to_string().contains("subsample"),
+        "{error}"
+    );
+}

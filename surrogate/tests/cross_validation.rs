@@ -1,0 +1,139 @@
+//! Grouped cross-validation and grid search.
+
+mod common;
+
+use std::collections::BTreeSet;
+
+use common::synthetic_dataset;
+use surrogate::{
+    cross_validate, grid_search, grouped_k_fold, leave_one_group_out, Fold, HyperParameterGrid,
+    HyperParameters, Mapping, Samples, SurrogateError,
+};
+
+/// Groups of uneven sizes: g0 x 5, g1 x 1, g2 x 3, ... interleaved.
+fn uneven_groups() -> Vec<String> {
+    let sizes = [5, 1, 3, 4, 2, 6, 2];
+    let mut groups = Vec::new();
+    for round in 0..6 {
+        for (g, &size) in sizes.iter().enumerate() {
+            if round < size {
+                groups.push(format!("g{g}"));
+            }
+        }
+    }
+    groups
+}
+
+/// Every fold keeps each group on one side, and every row is tested exactly once.
+fn assert_valid_grouped_folds(groups: &[String], folds: &[Fold]) {
+    let mut tested = vec![0; groups.len()];
+    for (k, fold) in folds.iter().enumerate() {
+        let train_groups: BTreeSet<&String> = fold.train.iter().map(|&r| &groups[r]).collect();
+        let test_groups: BTreeSet<&String> = fold.test.iter().map(|&r| &groups[r]).collect();
+        assert!(
+            train_groups.is_disjoint(&test_groups),
+            "fold {k}: groups on both sides: {:?}",
+            train_groups.intersection(&test_groups).collect::<Vec<_>>()
+        );
+        assert_eq!(
+            fold.train.len() + fold.test.len(),
+            groups.len(),
+            "fold {k} loses or repeats rows"
+        );
+        assert!(
+            !fold.test.is_empty() && !fold.train.is_empty(),
+            "fold {k} has an empty side"
+        );
+        for &row in &fold.test {
+            tested[row] += 1;
+        }
+    }
+    assert!(
+        tested.iter().all(|&n| n == 1),
+        "rows tested other than once: {tested:?}"
+    );
+}
+
+#[test]
+fn k_fold_never_splits_a_group() {
+    let groups = uneven_groups();
+    for k in 2..=7 {
+        let folds = grouped_k_fold(&groups, k).unwrap();
+        assert_eq!(folds.len(), k);
+        assert_valid_grouped_folds(&groups, &folds);
+    }
+}
+
+#[test]
+fn k_fold_balances_rows_among_folds() {
+    // Sizes 6,5,4,3,2,2,1 into 3 folds, largest first to the emptiest fold: 8, 8, 7 rows.
+    let folds = grouped_k_fold(&uneven_groups(), 3).unwrap();
+    let mut sizes: Vec<usize> = folds.iter().map(|f| f.test.len()).collect();
+    sizes.sort_unstable();
+    assert_eq!(sizes, [7, 8, 8]);
+}
+
+#[test]
+fn leave_one_group_out_tests_each_simulation_alone() {
+    let data = synthetic_dataset(6, 5, 1);
+    let groups = data.group_keys().unwrap();
+    let folds = leave_one_group_out(groups).unwrap();
+    assert_eq!(folds.len(), 6);
+    assert_valid_grouped_folds(groups, &folds);
+    for fold in &folds {
+        let test_groups: BTreeSet<&String> = fold.test.iter().map(|&r| &groups[r]).collect();
+        assert_eq!(test_groups.len(), 1);
+        assert_eq!(fold.test.len(), 5);
+    }
+}
+
+#[test]
+fn impossible_fold_counts_are_errors() {
+    let groups = uneven_groups();
+    for k in [0, 1, 8] {
+        let error = grouped_k_fold(&groups, k).unwrap_err();
+        assert!(
+            matches!(error, SurrogateError::InvalidArgument(_)),
+            "{error:?}"
+        );
+        assert!(
+            error.to_string().contains("between 2 and 7 folds"),
+            "{error}"
+        );
+    }
+}
+
+#[test]
+fn cross_validation_and_grid_search_are_deterministic_and_pick_the_minimum() {
+    let data = synthetic_dataset(8, 20, 2);
+    let mapping = Mapping::by_name("theta").unwrap();
+    let samples = Samples::from_dataset(&data, mapping).unwrap();
+    let folds = grouped_k_fold(&samples.groups, 4).unwrap();
+    let grid = HyperParameterGrid {
+        base: HyperParameters::default(),
+        n_estimators: vec![5, 60],
+        max_depth: vec![2, 4],
+        learning_rate: vec![0.3],
+        min_child_weight: vec![],
+    };
+    let first = grid_search(mapping, &samples, &folds, &grid).unwrap();
+    let second = grid_search(mapping, &samples, &folds, &grid).unwrap();
+    assert_eq!(first, second);
+    assert_eq!(first.scores.len(), 4);
+    let minimum = first
+        .scores
+        .iter()
+        .map(|s| s.mean)
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(first.best.mean, minimum);
+    // 5 rounds of eta 0.3 leave the outputs far from converged: never the best.
+    assert_eq!(first.best.params.n_estimators, 60);
+    for score in &first.scores {
+        println!(
+            "n_estimators {} max_depth {}: per output {:?}",
+            score.params.n_estimators, score.params.max_depth, score.per_output
+        );
+    }
+    let single = cross_validate(mapping, &samples, &folds, &first.best.params).unwrap();
+    assert_eq!(single, first.best);
+}

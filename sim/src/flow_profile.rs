@@ -28,6 +28,14 @@ const TABLE_TOLERANCE: f64 = 1e-6;
 /// expression is ~1e-15 relative; any real mismatch of the period is far above 1e-8.
 const PERIODIC_TOLERANCE: f64 = 1e-8;
 
+/// Cubic Hermite basis at fraction `t` of an interval of length `h`: weights of the left
+/// value, left slope, right value, right slope.
+#[inline]
+fn hermite_weights(t: f64, h: f64) -> [f64; 4] {
+    let (t2, t3) = (t * t, t * t * t);
+    [2.0 * t3 - 3.0 * t2 + 1.0, (t3 - 2.0 * t2 + t) * h, 3.0 * t2 - 2.0 * t3, (t3 - t2) * h]
+}
+
 /// Step of the finite-difference fallback, relative to `L_y`.
 const FD_STEP: f64 = 1e-3;
 
@@ -131,19 +139,35 @@ impl FlowProfile {
         self.l_y
     }
 
-    /// Cubic Hermite interpolation of table column `k` (value) using column `k + 1` (slope).
-    fn interpolate(&self, y: f64, k: usize) -> f64 {
-        let x = y.rem_euclid(self.l_y) / self.spacing;
+    /// `(u(y), u'(y))` with one table lookup: the simulator's per-particle call.
+    #[inline]
+    pub fn u_and_slope(&self, y: f64) -> (f64, f64) {
+        let (i, t) = self.locate(y);
+        let (a, b) = (&self.nodes[i], &self.nodes[i + 1]);
+        let w = hermite_weights(t, self.spacing);
+        (
+            w[0] * a[0] + w[1] * a[1] + w[2] * b[0] + w[3] * b[1],
+            w[0] * a[1] + w[1] * a[2] + w[2] * b[1] + w[3] * b[2],
+        )
+    }
+
+    /// Table interval and fraction within it of any real `y` (positions inside the box
+    /// skip the costly periodic reduction).
+    #[inline]
+    fn locate(&self, y: f64) -> (usize, f64) {
+        let y = if (0.0..self.l_y).contains(&y) { y } else { y.rem_euclid(self.l_y) };
+        let x = y / self.spacing;
         // `x` may round up to TABLE_INTERVALS; a NaN `x` casts to 0 and propagates via `t`.
         let i = (x as usize).min(TABLE_INTERVALS - 1);
-        let t = x - i as f64;
+        (i, x - i as f64)
+    }
+
+    /// Cubic Hermite interpolation of table column `k` (value) using column `k + 1` (slope).
+    fn interpolate(&self, y: f64, k: usize) -> f64 {
+        let (i, t) = self.locate(y);
         let (a, b) = (&self.nodes[i], &self.nodes[i + 1]);
-        let t2 = t * t;
-        let t3 = t2 * t;
-        (2.0 * t3 - 3.0 * t2 + 1.0) * a[k]
-            + (t3 - 2.0 * t2 + t) * self.spacing * a[k + 1]
-            + (3.0 * t2 - 2.0 * t3) * b[k]
-            + (t3 - t2) * self.spacing * b[k + 1]
+        let w = hermite_weights(t, self.spacing);
+        w[0] * a[k] + w[1] * a[k + 1] + w[2] * b[k] + w[3] * b[k + 1]
     }
 
     /// Compares the interpolated `u` and `u'` with the exact ones at every interval midpoint
@@ -322,6 +346,7 @@ mod tests {
                 "{expr} u' at {y}"
             );
             assert_eq!(p.omega_z(y), -0.5 * p.du_dy(y));
+            assert_eq!(p.u_and_slope(y), (p.u(y), p.du_dy(y)));
         }
     }
 

@@ -150,11 +150,8 @@ impl ForceField {
         if !self.drag {
             return (Vec3::zeros(), Vec3::zeros());
         }
-        let y = p.pos[i].y;
+        let (u, du_dy) = profile.u_and_slope(p.pos[i].y);
         let a = p.radius[i];
-        (
-            drag::force(self.eta, a, profile.u(y), &p.vel[i]),
-            drag::torque(self.eta, a, profile.du_dy(y), &p.omega[i]),
-        )
+        (drag::force(self.eta, a, u, &p.vel[i]), drag::torque(self.eta, a, du_dy, &p.omega[i]))
     }
 }

@@ -87,7 +87,7 @@ pub struct Profile {
 
 /// Observables of summed snapshots `s` (`n` snapshots). Theta uses fluctuations about
 /// `u_star`, the linear interpolation between bin centres of the bin means given.
-fn observables(ctx: &ProfileContext, s: &[f64], n: usize, u_star: &[f64]) -> Result<Observables, SimError> {
+pub fn observables(ctx: &ProfileContext, s: &[f64], n: usize, u_star: &[f64]) -> Result<Observables, SimError> {
     let nb = ctx.bins.count;
     let per = |f: usize, k: usize| s[f * nb + k];
     let norm = 1.0 / (n as f64 * ctx.bin_volume);

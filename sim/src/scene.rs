@@ -117,7 +117,8 @@ pub struct RunSection {
     #[serde(default = "default_max_strain")]
     pub max_strain: f64,
     /// Steady when, for u, sigma_xy and phi_loc, the mean over bins of the squared
-    /// window-to-window change in units of its standard error is below this.
+    /// z-score of the linear trend over the last 4 windows is below this (about 1 for
+    /// pure noise).
     #[serde(default = "default_steady_chi2")]
     pub steady_chi2: f64,
     /// Snapshots averaged in the steady state (seeds: 1000).
@@ -145,7 +146,7 @@ fn default_skin() -> f64 { 0.2 }
 fn default_bin_width() -> f64 { 2.0 }
 fn default_sample_strain() -> f64 { 0.01 }
 fn default_max_strain() -> f64 { 30.0 }
-fn default_steady_chi2() -> f64 { 4.0 }
+fn default_steady_chi2() -> f64 { 3.0 }
 fn default_snapshots() -> usize { 1000 }
 fn default_blocks() -> usize { 20 }
 fn default_checkpoint_s() -> f64 { 60.0 }

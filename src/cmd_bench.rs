@@ -22,6 +22,9 @@ pub struct Args {
     /// Untimed warm-up steps.
     #[arg(long, default_value_t = 2000)]
     warmup: u64,
+    /// Verlet-list skin (units a); the scene default when absent.
+    #[arg(long)]
+    skin: Option<f64>,
     /// Switch lubrication off (contact + drag only).
     #[arg(long)]
     no_lubrication: bool,
@@ -43,21 +46,22 @@ struct Record {
 }
 
 /// The peer's scene at N particles: L_x = L_z = sqrt(V_particles / (phi L_y)).
-fn scene(n: usize, lubrication: bool) -> anyhow::Result<Scene> {
+fn scene(n: usize, lubrication: bool, skin: Option<f64>) -> anyhow::Result<Scene> {
     let (phi, l_y) = (0.54, 50.0);
     let v_particles = (n / 2) as f64 * 4.0 / 3.0 * PI * (1.0 + 1.4f64.powi(3));
     let l = (v_particles / (phi * l_y)).sqrt();
     let text = format!(
         "name = \"bench{n}\"\nseed = 12345\n[box]\nl_x = {l}\nl_y = {l_y}\nl_z = {l}\n\
          [particles]\nphi = {phi}\n[fluid]\nprofile = \"0.1*sin(2*pi*y/L)\"\n\
-         [forces]\nlubrication = {lubrication}\n[run]\ndt = 5e-4\n"
+         [forces]\nlubrication = {lubrication}\n[run]\ndt = 5e-4\n{}",
+        skin.map(|s| format!("skin = {s}\n")).unwrap_or_default()
     );
     Ok(Scene::from_toml(&text, false)?)
 }
 
 fn measure(n: usize, threads: usize, args: &Args) -> anyhow::Result<Record> {
     let lubrication = !args.no_lubrication;
-    let scene = scene(n, lubrication)?;
+    let scene = scene(n, lubrication, args.skin)?;
     let particles = initial_particles(&scene)?;
     crate::with_threads(threads, || -> anyhow::Result<Record> {
         let mut sim = Simulation::new(&scene, particles)?;

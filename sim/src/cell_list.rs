@@ -44,7 +44,14 @@ impl CellList {
         for k in 0..3 {
             c[k] = ((x[k] / size[k]) as usize).min(dims[k] - 1);
         }
-        (c[0] * dims[1] + c[1]) * dims[2] + c[2]
+        (c[1] * dims[2] + c[2]) * dims[0] + c[0]
+    }
+
+    /// Particle indices sorted by cell (x fastest, then z, then y; by index inside a
+    /// cell): a memory order in which neighbours sit close together, and in which rows of
+    /// constant (y, z) stay together under a shear flow along x.
+    pub fn order(&self) -> &[u32] {
+        &self.particles
     }
 
     /// Calls `visit(j)` once for every particle in the cells adjacent to (and including)
@@ -68,7 +75,7 @@ impl CellList {
         for &cx in &xs.0[..xs.1] {
             for &cy in &ys.0[..ys.1] {
                 for &cz in &zs.0[..zs.1] {
-                    let c = (cx * self.dims[1] + cy) * self.dims[2] + cz;
+                    let c = (cy * self.dims[2] + cz) * self.dims[0] + cx;
                     for &j in &self.particles[self.start[c]..self.start[c + 1]] {
                         visit(j);
                     }

@@ -51,17 +51,17 @@ pub fn write_results(dir: &Path, scene: &Scene, profile: &Profile, summary: &Run
     write_atomic(&dir.join("summary.json"), &json)
 }
 
-/// Appends one extended-XYZ frame (species, position, radius, velocity, spin) to `file`.
+/// Appends one extended-XYZ frame (identity, species, position, radius, velocity, spin) to `file`.
 pub fn append_xyz_frame(file: &mut std::fs::File, sim: &Simulation) -> Result<(), SimError> {
     let p = &sim.particles;
     let l = sim.pbox.len;
     let mut s = String::with_capacity(p.len() * 120);
     let _ = writeln!(s, "{}", p.len());
-    let _ = writeln!(s, "Lattice=\"{} 0 0 0 {} 0 0 0 {}\" Properties=species:S:1:pos:R:3:radius:R:1:velo:R:3:omega:R:3 Time={} pbc=\"T T T\"",
+    let _ = writeln!(s, "Lattice=\"{} 0 0 0 {} 0 0 0 {}\" Properties=id:I:1:species:S:1:pos:R:3:radius:R:1:velo:R:3:omega:R:3 Time={} pbc=\"T T T\"",
         l.x, l.y, l.z, sim.time);
     for i in 0..p.len() {
         let (x, v, w) = (p.pos[i], p.vel[i], p.omega[i]);
-        let _ = writeln!(s, "S{} {} {} {} {} {} {} {} {} {} {}", p.species[i], x.x, x.y, x.z, p.radius[i], v.x, v.y, v.z, w.x, w.y, w.z);
+        let _ = writeln!(s, "{} S{} {} {} {} {} {} {} {} {} {} {}", p.id[i], p.species[i], x.x, x.y, x.z, p.radius[i], v.x, v.y, v.z, w.x, w.y, w.z);
     }
     file.write_all(s.as_bytes()).map_err(|e| SimError::Output { path: "snapshot xyz".into(), message: e.to_string() })
 }

@@ -23,6 +23,9 @@ pub struct Particles {
     pub species: Vec<u16>,
     /// Mass `4/3 pi rho a^3` (eq 3.1).
     pub mass: Vec<f64>,
+    /// Identity of each particle (its index in the initial configuration): the arrays
+    /// are re-sorted in space for memory locality, identities stay.
+    pub id: Vec<u32>,
 }
 
 impl Particles {
@@ -39,7 +42,24 @@ impl Particles {
             radius,
             species,
             mass,
+            id: (0..n as u32).collect(),
         }
+    }
+
+    /// Reorders every per-particle array: new index k holds old particle `order[k]`.
+    pub fn permute(&mut self, order: &[u32]) {
+        fn apply<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
+            *v = order.iter().map(|&o| v[o as usize]).collect();
+        }
+        apply(&mut self.pos, order);
+        apply(&mut self.vel, order);
+        apply(&mut self.omega, order);
+        apply(&mut self.force, order);
+        apply(&mut self.torque, order);
+        apply(&mut self.radius, order);
+        apply(&mut self.species, order);
+        apply(&mut self.mass, order);
+        apply(&mut self.id, order);
     }
 
     /// Number of particles.

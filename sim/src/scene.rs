@@ -142,7 +142,7 @@ fn default_k_n() -> f64 { 1e4 }
 fn default_xi_min() -> f64 { 1e-3 }
 fn default_xi_max() -> f64 { 0.05 }
 fn default_dt_safety() -> f64 { 0.3 }
-fn default_skin() -> f64 { 0.2 }
+fn default_skin() -> f64 { 0.1 }
 fn default_bin_width() -> f64 { 2.0 }
 fn default_sample_strain() -> f64 { 0.01 }
 fn default_max_strain() -> f64 { 30.0 }

@@ -1,5 +1,6 @@
 //! The particle system in time: neighbour upkeep, force evaluation and velocity-Verlet
 //! steps (SPEC section 5), with blow-up detection.
+use crate::cell_list::CellList;
 use crate::error::SimError;
 use crate::flow_profile::FlowProfile;
 use crate::force_accumulation::{ContactStats, ForceAccumulator};
@@ -88,28 +89,39 @@ impl Simulation {
     /// bitwise identical to the uninterrupted run.
     pub fn restore(scene: &Scene, particles: Particles, reference: Vec<Vec3>, springs: Vec<Vec3>) -> Result<Self, SimError> {
         let mut sim = Self::bare(scene, particles)?;
-        sim.rebuild_list_from(reference);
+        let identity: Vec<u32> = (0..sim.particles.len() as u32).collect();
+        sim.build_list(reference, &identity);
         sim.springs = springs;
         Ok(sim)
     }
 
-    /// Rebuilds the neighbour list from the current positions, carrying contact springs over.
+    /// Re-sorts the particles into cell order and rebuilds the neighbour list from the
+    /// current positions, carrying contact springs over.
     pub fn rebuild_list(&mut self) {
+        let t = self.timers.start();
+        let reach = self.field.max_cutoff + self.skin;
+        let order = CellList::build(&self.particles.pos, &self.pbox, reach).order().to_vec();
+        self.particles.permute(&order);
+        if !self.body_force.is_empty() {
+            self.body_force = order.iter().map(|&o| self.body_force[o as usize]).collect();
+        }
+        self.timers.stop(Stage::Neighbours, t);
         let reference = self.particles.pos.clone();
-        self.rebuild_list_from(reference);
+        self.build_list(reference, &order);
     }
 
-    /// Rebuilds the neighbour list around `reference` positions (a checkpoint restores the
-    /// exact list of the interrupted run this way).
-    pub fn rebuild_list_from(&mut self, reference: Vec<Vec3>) {
+    /// Rebuilds the neighbour list around `reference` positions without reordering (a
+    /// checkpoint restores the exact list of the interrupted run this way).
+    fn build_list(&mut self, reference: Vec<Vec3>, old_index: &[u32]) {
         let t = self.timers.start();
         let field = &self.field;
         let species = &self.particles.species;
-        let list = VerletList::build(&reference, &self.pbox, field.max_cutoff, self.skin, |i, j| {
+        let cells = CellList::build(&reference, &self.pbox, field.max_cutoff + self.skin);
+        let list = VerletList::build(&reference, &self.pbox, &cells, self.skin, |i, j| {
             field.cutoff(species[i], species[j])
         });
         if field.frictional() {
-            self.springs = list.carry_over(&self.list, &self.springs);
+            self.springs = list.carry_over(&self.list, &self.springs, old_index, |s| -s);
         }
         self.list = list;
         self.list_builds += 1;

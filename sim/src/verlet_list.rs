@@ -17,16 +17,15 @@ pub struct VerletList {
 }
 
 impl VerletList {
-    /// Lists every pair whose distance is below `cutoff(species_i, species_j) + skin`.
-    /// `cutoff` must not exceed `max_cutoff`.
+    /// Lists every pair whose distance is below `cutoff(i, j) + skin`, using `cells`
+    /// built over `positions` with cells at least as wide as the largest such distance.
     pub fn build(
         positions: &[Vec3],
         pbox: &PeriodicBox,
-        max_cutoff: f64,
+        cells: &CellList,
         skin: f64,
         cutoff: impl Fn(usize, usize) -> f64,
     ) -> Self {
-        let cells = CellList::build(positions, pbox, max_cutoff + skin);
         let n = positions.len();
         let mut start = Vec::with_capacity(n + 1);
         let mut neighbours = Vec::with_capacity(8 * n);
@@ -64,22 +63,29 @@ impl VerletList {
         self.neighbours.is_empty()
     }
 
-    /// Carries per-pair values (tangential contact springs) from `old` to this list:
-    /// pairs present in both keep their value, new pairs start at `T::default()`.
-    pub fn carry_over<T: Copy + Default>(&self, old: &VerletList, old_values: &[T]) -> Vec<T> {
+    /// Carries per-pair values (tangential contact springs) from `old` to this list,
+    /// where new particle k was particle `old_index[k]` of the old list: pairs present in
+    /// both keep their value (sign-flipped by `flip` when the pair's order reversed), new
+    /// pairs start at `T::default()`.
+    pub fn carry_over<T: Copy + Default>(
+        &self,
+        old: &VerletList,
+        old_values: &[T],
+        old_index: &[u32],
+        flip: impl Fn(T) -> T,
+    ) -> Vec<T> {
         let mut values = vec![T::default(); self.len()];
-        for i in 0..self.start.len().saturating_sub(1) {
-            if i + 1 >= old.start.len() {
-                break;
-            }
-            let (mut p, p_end) = (old.start[i], old.start[i + 1]);
+        if old.start.len() != self.start.len() {
+            return values;
+        }
+        for i in 0..self.start.len() - 1 {
             for q in self.start[i]..self.start[i + 1] {
-                let j = self.neighbours[q];
-                while p < p_end && old.neighbours[p] < j {
-                    p += 1;
-                }
-                if p < p_end && old.neighbours[p] == j {
-                    values[q] = old_values[p];
+                let (a, b) = (old_index[i], old_index[self.neighbours[q] as usize]);
+                let (lo, hi) = (a.min(b) as usize, a.max(b));
+                let row = &old.neighbours[old.start[lo]..old.start[lo + 1]];
+                if let Ok(p) = row.binary_search(&hi) {
+                    let v = old_values[old.start[lo] + p];
+                    values[q] = if a < b { v } else { flip(v) };
                 }
             }
         }

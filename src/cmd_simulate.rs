@@ -25,6 +25,10 @@ pub struct Args {
     /// Threads (0 = all cores).
     #[arg(long, default_value_t = 0)]
     threads: usize,
+    /// Validate the scene and print its derived quantities (N, bins, Stokes number, time
+    /// step and what limits it) without running.
+    #[arg(long)]
+    check: bool,
     /// Write an extended-XYZ frame every N snapshots to DIR/frames.xyz.
     #[arg(long, value_name = "N")]
     snapshot: Option<usize>,
@@ -34,6 +38,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let scene = Scene::from_path(&args.scene, args.strict)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
+    }
+    if args.check {
+        return print_check(&scene);
     }
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst)).context("installing the Ctrl-C handler")?;
@@ -99,5 +106,30 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for w in &s.warnings {
         eprintln!("warning: {w}");
     }
+    Ok(())
+}
+
+/// Derived quantities of a valid scene.
+fn print_check(scene: &Scene) -> anyhow::Result<()> {
+    let field = sim::force_field::ForceField::from_scene(scene);
+    let t = sim::timestep::TimeStep::choose(scene, &field);
+    let r = &scene.file.run;
+    let steps_per_strain = 1.0 / (scene.gdot_max() * t.dt);
+    println!("scene `{}` is valid", scene.file.name);
+    println!("particles: {} (species counts {:?}), phi = {:.4}", scene.n_particles(), scene.counts, scene.phi_actual);
+    println!("bins: {} of width {}", scene.n_bins, r.bin_width);
+    println!("gdot_max = {:.4e}, Stokes number = {:.3e}", scene.gdot_max(), scene.stokes);
+    println!(
+        "dt = {:.3e} set by {} (critical steps: contact {:.3e}, drag {:.3e}, lubrication {:.3e})",
+        t.dt, t.limit, t.contact_critical, t.drag_critical, t.lubrication_critical
+    );
+    println!(
+        "{:.0} steps per unit strain; at most {:.3e} particle-steps to the strain budget {} plus {:.3e} for {} snapshots",
+        steps_per_strain,
+        steps_per_strain * r.max_strain * scene.n_particles() as f64,
+        r.max_strain,
+        steps_per_strain * r.sample_strain * r.snapshots as f64 * scene.n_particles() as f64,
+        r.snapshots
+    );
     Ok(())
 }

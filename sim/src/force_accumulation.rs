@@ -50,7 +50,8 @@ impl ContactStats {
     }
 }
 
-/// Per-chunk force and torque buffers, reused every step (no allocation per step).
+/// Force and torque buffers of the chunks after the first, reused every step (no
+/// allocation per step).
 #[derive(Default)]
 pub struct ForceAccumulator {
     buffers: Vec<(Vec<Vec3>, Vec<Vec3>)>,
@@ -99,7 +100,7 @@ impl ForceAccumulator {
             for i in 0..n {
                 (force[i], torque[i]) = field.one_body(state, profile, i);
             }
-            pair_range(field, state, list, springs, pbox, dt, 0..n, &mut force, &mut torque)
+            pair_range(field, state, list, springs, pbox, dt, 0..n, 0, &mut force, &mut torque)
         } else {
             self.parallel(field, state, list, springs, pbox, profile, dt, chunks, &mut force, &mut torque)
         };
@@ -108,8 +109,10 @@ impl ForceAccumulator {
         stats
     }
 
-    /// Parallel evaluation: each chunk of rows sums its pairs into its own buffers, then
-    /// every particle adds its one-body load and the chunks' buffers in chunk order.
+    /// Parallel evaluation. The one-body loads are written first; then chunk 0 adds its
+    /// pairs straight into the output while chunk k >= 1 sums into its own buffer, which
+    /// only needs to cover particles from its first row on (a half list has j > i).
+    /// Finally each particle adds the buffers in chunk order.
     #[allow(clippy::too_many_arguments)]
     fn parallel(
         &mut self,
@@ -126,37 +129,52 @@ impl ForceAccumulator {
     ) -> ContactStats {
         let n = state.len();
         self.split(list, chunks);
-        self.buffers.resize_with(chunks, Default::default);
+        self.buffers.resize_with(chunks - 1, Default::default);
+        force.par_iter_mut().zip(torque.par_iter_mut()).enumerate().with_min_len(256).for_each(|(i, (f, t))| {
+            (*f, *t) = field.one_body(state, profile, i);
+        });
+        let bounds = &self.bounds;
         let mut spring_parts: Vec<&mut [Vec3]> = Vec::with_capacity(chunks);
         let mut rest = springs;
         for k in 0..chunks {
-            let len = if rest.is_empty() { 0 } else { list.start[self.bounds[k + 1]] - list.start[self.bounds[k]] };
+            let len = if rest.is_empty() { 0 } else { list.start[bounds[k + 1]] - list.start[bounds[k]] };
             let (head, tail) = rest.split_at_mut(len);
             spring_parts.push(head);
             rest = tail;
         }
-        let bounds = &self.bounds;
-        let stats: Vec<ContactStats> = self
-            .buffers
-            .par_iter_mut()
+        let mut targets: Vec<(&mut [Vec3], &mut [Vec3], usize)> = Vec::with_capacity(chunks);
+        targets.push((&mut *force, &mut *torque, 0));
+        for (k, (bf, bt)) in self.buffers.iter_mut().enumerate() {
+            let offset = bounds[k + 1];
+            bf.clear();
+            bf.resize(n - offset, Vec3::zeros());
+            bt.clear();
+            bt.resize(n - offset, Vec3::zeros());
+            targets.push((bf.as_mut_slice(), bt.as_mut_slice(), offset));
+        }
+        let stats: Vec<ContactStats> = targets
+            .into_par_iter()
             .zip(spring_parts.into_par_iter())
             .enumerate()
-            .map(|(k, ((bf, bt), part))| {
-                bf.clear();
-                bf.resize(n, Vec3::zeros());
-                bt.clear();
-                bt.resize(n, Vec3::zeros());
-                pair_range(field, state, list, part, pbox, dt, bounds[k]..bounds[k + 1], bf, bt)
+            .map(|(k, ((f, t, offset), part))| {
+                pair_range(field, state, list, part, pbox, dt, bounds[k]..bounds[k + 1], offset, f, t)
             })
             .collect();
         let buffers = &self.buffers;
-        force.par_iter_mut().zip(torque.par_iter_mut()).enumerate().with_min_len(256).for_each(|(i, (f, t))| {
-            (*f, *t) = field.one_body(state, profile, i);
-            for (bf, bt) in buffers {
-                *f += bf[i];
-                *t += bt[i];
-            }
-        });
+        let first = bounds[1];
+        force[first..].par_iter_mut().zip(torque[first..].par_iter_mut()).enumerate().with_min_len(256).for_each(
+            |(r, (f, t))| {
+                let i = first + r;
+                for (k, (bf, bt)) in buffers.iter().enumerate() {
+                    let offset = bounds[k + 1];
+                    if i < offset {
+                        break;
+                    }
+                    *f += bf[i - offset];
+                    *t += bt[i - offset];
+                }
+            },
+        );
         let mut total = ContactStats::default();
         for s in &stats {
             total.merge(s);
@@ -165,7 +183,8 @@ impl ForceAccumulator {
     }
 }
 
-/// Adds the loads of the pairs whose first particle lies in `rows` into `force`/`torque`.
+/// Adds the loads of the pairs whose first particle lies in `rows` into `force`/`torque`,
+/// which hold particles from index `offset` on.
 #[allow(clippy::too_many_arguments)]
 fn pair_range(
     field: &ForceField,
@@ -175,21 +194,22 @@ fn pair_range(
     pbox: &PeriodicBox,
     dt: f64,
     rows: std::ops::Range<usize>,
+    offset: usize,
     force: &mut [Vec3],
     torque: &mut [Vec3],
 ) -> ContactStats {
     let mut stats = ContactStats::default();
     let frictional = !springs.is_empty();
-    let offset = list.start[rows.start];
+    let first_pair = list.start[rows.start];
     for i in rows {
         for q in list.start[i]..list.start[i + 1] {
             let j = list.neighbours[q] as usize;
-            let spring = if frictional { Some(&mut springs[q - offset]) } else { None };
+            let spring = if frictional { Some(&mut springs[q - first_pair]) } else { None };
             if let Some(out) = field.pair(p, pbox, i, j, spring, dt) {
-                force[i] += out.load.force_i;
-                force[j] -= out.load.force_i;
-                torque[i] += out.load.torque_i;
-                torque[j] += out.load.torque_j;
+                force[i - offset] += out.load.force_i;
+                force[j - offset] -= out.load.force_i;
+                torque[i - offset] += out.load.torque_i;
+                torque[j - offset] += out.load.torque_j;
                 stats.record(out.overlap, field.constants(p.species[i], p.species[j]).a_min, i, j);
             }
         }

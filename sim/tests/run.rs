@@ -1,0 +1,120 @@
+//! Whole runs on a tiny scene: same seed same output, checkpoint + resume identical,
+//! the steady momentum balance, and phi_loc summing to the global phi (SPEC section 9).
+use sim::binning::Bins;
+use sim::output::profile_rows;
+use sim::run::{initial_particles, run, RunOptions};
+use sim::scene::Scene;
+use sim::simulation::Simulation;
+use sim::snapshot::{self, field};
+use sim::SimError;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+fn tiny() -> Scene {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/scenes/good/tiny.toml");
+    Scene::from_path(&path, false).unwrap()
+}
+
+fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(f)
+}
+
+fn rows(scene: &Scene, opts: &RunOptions, stop_after: Option<(usize, &'static AtomicBool)>) -> Result<String, SimError> {
+    let mut seen = 0;
+    let out = run(scene, opts, &mut |_, _| {
+        seen += 1;
+        if let Some((k, flag)) = stop_after {
+            if seen == k {
+                flag.store(true, Ordering::SeqCst);
+            }
+        }
+    })?;
+    Ok(profile_rows(scene, &out.profile))
+}
+
+#[test]
+fn same_seed_same_output_and_resume_is_identical() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    let scene = tiny();
+    let dir = std::env::temp_dir().join(format!("suspflow-resume-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let checkpoint = dir.join("checkpoint.json");
+    on_threads(2, || {
+        let plain = RunOptions::default();
+        let first = rows(&scene, &plain, None).unwrap();
+        let second = rows(&scene, &plain, None).unwrap();
+        assert_eq!(first, second, "same seed, same threads: output must be identical");
+
+        // Interrupt twice, resuming each time: at snapshot 7 (equilibrating, 40 snapshots) and
+        // at snapshot 52 (averaging).
+        let opts = RunOptions { checkpoint: Some(checkpoint.clone()), resume: true, interrupt: Some(&STOP) };
+        for stop_at in [7, 45] {
+            STOP.store(false, Ordering::SeqCst);
+            match rows(&scene, &opts, Some((stop_at, &STOP))) {
+                Err(SimError::Interrupted { .. }) => {}
+                other => panic!("expected an interruption, got {:?}", other.map(|_| ())),
+            }
+            assert!(checkpoint.exists());
+        }
+        STOP.store(false, Ordering::SeqCst);
+        let resumed = rows(&scene, &opts, None).unwrap();
+        assert_eq!(first, resumed, "checkpoint + resume must reproduce the uninterrupted run");
+    });
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_checkpoint_of_another_scene_is_refused() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    let scene = tiny();
+    let dir = std::env::temp_dir().join(format!("suspflow-other-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let opts = RunOptions { checkpoint: Some(dir.join("checkpoint.json")), resume: true, interrupt: Some(&STOP) };
+    assert!(matches!(rows(&scene, &opts, Some((2, &STOP))), Err(SimError::Interrupted { .. })));
+    let mut other = scene.file.clone();
+    other.seed += 1;
+    let other = Scene::from_file(other, false).unwrap();
+    STOP.store(false, Ordering::SeqCst);
+    match rows(&other, &opts, None) {
+        Err(SimError::Checkpoint { message, .. }) => assert!(message.contains("different scene")),
+        r => panic!("expected a checkpoint error, got {:?}", r.map(|_| ())),
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn steady_momentum_balance_holds() {
+    let mut file = tiny().file;
+    file.run.steady_chi2 = 3.0;
+    file.run.window_strain = 0.5;
+    file.run.snapshots = 100;
+    file.run.blocks = 5;
+    let scene = Scene::from_file(file, false).unwrap();
+    let out = on_threads(2, || run(&scene, &RunOptions::default(), &mut |_, _| {})).unwrap();
+    let residual = out.profile.momentum_residual.unwrap();
+    assert!(residual < 0.1, "momentum residual {residual} of the drag scale");
+    // The balance is not trivially satisfied: the drag density itself is far from zero.
+    let drag_rms = (out.profile.mean.f_x.iter().map(|f| f * f).sum::<f64>() / out.profile.mean.f_x.len() as f64).sqrt();
+    assert!(drag_rms > 1e-3, "drag density {drag_rms} too small to test the balance");
+    assert!(out.summary.strain_to_steady > 0.0);
+}
+
+#[test]
+fn binned_solid_volume_sums_to_the_total() {
+    let scene = tiny();
+    let sim = Simulation::new(&scene, initial_particles(&scene).unwrap()).unwrap();
+    let bins = Bins::new(scene.file.run.bin_width, scene.n_bins);
+    let mut sums = vec![0.0; field::FIELDS * scene.n_bins];
+    snapshot::accumulate(&sim, &bins, &mut sums);
+    let nb = scene.n_bins;
+    let binned: f64 = sums[field::VOLUME * nb..(field::VOLUME + 1) * nb].iter().sum();
+    let total = sim.particles.solid_volume();
+    assert!((binned - total).abs() < 1e-12 * total, "binned {binned} vs total {total}");
+    let [l_x, l_y, l_z] = scene.box_len;
+    let phi: f64 = sums[field::VOLUME * nb..(field::VOLUME + 1) * nb].iter().map(|v| v / (l_x * 2.0 * l_z)).sum::<f64>() / nb as f64;
+    assert!((phi - scene.phi_actual).abs() < 1e-12, "mean phi_loc {phi} vs phi {}", scene.phi_actual);
+    assert!((scene.phi_actual - 0.5).abs() < 0.02 && l_y == 12.0);
+    // Every particle centre is counted once.
+    let counted: f64 = sums[field::COUNT * nb..(field::COUNT + 1) * nb].iter().sum();
+    assert_eq!(counted as usize, sim.particles.len());
+}

@@ -9,6 +9,10 @@ use crate::verlet_list::VerletList;
 use crate::Vec3;
 use rayon::prelude::*;
 
+/// Below this many particles the pair loop runs on one thread: the per-step fork and the
+/// buffer reduction cost more than they save.
+pub const PARALLEL_MIN_PARTICLES: usize = 2048;
+
 /// Overlap statistics of one force evaluation.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactStats {
@@ -90,7 +94,7 @@ impl ForceAccumulator {
         profile: &FlowProfile,
         dt: f64,
     ) -> ContactStats {
-        let chunks = rayon::current_num_threads().max(1);
+        let chunks = if p.len() < PARALLEL_MIN_PARTICLES { 1 } else { rayon::current_num_threads().max(1) };
         let n = p.len();
         // The state is read while the load arrays are written: move them out (no copy).
         let mut force = std::mem::take(&mut p.force);

@@ -74,7 +74,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             }
             samples += 1;
             if let Some((every, file)) = frames.as_mut() {
-                if samples % *every == 0 && frame_error.is_none() {
+                if samples.is_multiple_of(*every) && frame_error.is_none() {
                     frame_error = sim::output::append_xyz_frame(file, sim).err();
                 }
             }

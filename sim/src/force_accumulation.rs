@@ -84,6 +84,7 @@ impl ForceAccumulator {
     /// Sets `p.force` and `p.torque` to the total load on every particle: one-body terms
     /// plus every listed pair within its cut-off. `springs` holds one tangential spring
     /// per listed pair in frictional scenes and is empty otherwise.
+    #[allow(clippy::too_many_arguments)]
     pub fn evaluate(
         &mut self,
         field: &ForceField,

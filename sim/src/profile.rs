@@ -173,6 +173,6 @@ impl Profile {
 
     /// Bins where P <= 0, so that J, mu and Theta are undefined.
     pub fn undefined_bins(&self) -> Vec<usize> {
-        (0..self.y.len()).filter(|&k| !(self.mean.p[k] > 0.0)).collect()
+        (0..self.y.len()).filter(|&k| self.mean.p[k].is_nan() || self.mean.p[k] <= 0.0).collect()
     }
 }

@@ -335,12 +335,12 @@ impl Scene {
     /// Radius of every particle, species by species (species 0 first).
     pub fn particle_radii(&self) -> Vec<f64> {
         let radii = &self.file.particles.radii;
-        self.counts.iter().zip(radii).flat_map(|(&c, &a)| std::iter::repeat(a).take(c)).collect()
+        self.counts.iter().zip(radii).flat_map(|(&c, &a)| std::iter::repeat_n(a, c)).collect()
     }
 
     /// Species index of every particle, in the order of [`Scene::particle_radii`].
     pub fn particle_species(&self) -> Vec<u16> {
-        self.counts.iter().enumerate().flat_map(|(s, &c)| std::iter::repeat(s as u16).take(c)).collect()
+        self.counts.iter().enumerate().flat_map(|(s, &c)| std::iter::repeat_n(s as u16, c)).collect()
     }
 
     /// Number-weighted mean radius, the `a` of Theta (SPEC section 6).

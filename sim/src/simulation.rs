@@ -151,7 +151,7 @@ impl Simulation {
         let h = 0.5 * self.timestep.dt;
         let p = &mut self.particles;
         let (force, torque, mass, radius) = (&p.force, &p.torque, &p.mass, &p.radius);
-        p.vel.par_iter_mut().zip(p.omega.par_iter_mut()).enumerate().with_min_len(512).for_each(|(i, (v, w))| {
+        p.vel.par_iter_mut().zip(p.omega.par_iter_mut()).enumerate().with_min_len(1024).for_each(|(i, (v, w))| {
             *v += force[i] * (h / mass[i]);
             *w += torque[i] * (h / (0.4 * mass[i] * radius[i] * radius[i]));
         });
@@ -162,7 +162,7 @@ impl Simulation {
         let dt = self.timestep.dt;
         let pbox = self.pbox;
         let p = &mut self.particles;
-        p.pos.par_iter_mut().zip(p.vel.par_iter()).with_min_len(512).for_each(|(x, v)| {
+        p.pos.par_iter_mut().zip(p.vel.par_iter()).with_min_len(1024).for_each(|(x, v)| {
             *x += v * dt;
             pbox.wrap(x);
         });
@@ -211,7 +211,7 @@ impl Simulation {
                 "overlap with particle {j} is {:.3} of the smaller radius (limit {MAX_OVERLAP_RATIO})",
                 self.contacts.max_overlap_ratio), &format!("contacts too soft for the stress (raise forces.k_n) or {dt_hint}")));
         }
-        if self.step % ENERGY_CHECK_EVERY != 0 {
+        if !self.step.is_multiple_of(ENERGY_CHECK_EVERY) {
             return Ok(());
         }
         let p = &self.particles;

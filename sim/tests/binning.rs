@@ -25,16 +25,16 @@ fn sphere_volume_is_split_exactly_across_slabs_and_the_periodic_boundary() {
 #[test]
 fn segment_shares_follow_the_length_inside_each_bin() {
     let bins = Bins::new(2.0, 10);
-    let mut shares = vec![0.0; 10];
+    let mut shares = [0.0; 10];
     // From y = 1.5 up by 2.5: 0.5 in bin 0, 2.0 in bin 1 -> 0.2, 0.8.
     bins.share_segment(1.5, 2.5, |k, f| shares[k] += f);
     assert!((shares[0] - 0.2).abs() < 1e-12 && (shares[1] - 0.8).abs() < 1e-12);
     // Downwards across the periodic boundary: from 0.5 down by 1.5 -> 0.5 in bin 0, 1.0 in bin 9.
-    let mut shares = vec![0.0; 10];
+    let mut shares = [0.0; 10];
     bins.share_segment(0.5, -1.5, |k, f| shares[k] += f);
     assert!((shares[0] - 1.0 / 3.0).abs() < 1e-12 && (shares[9] - 2.0 / 3.0).abs() < 1e-12);
     // Horizontal pair: all to the bin of the first particle.
-    let mut shares = vec![0.0; 10];
+    let mut shares = [0.0; 10];
     bins.share_segment(7.0, 0.0, |k, f| shares[k] += f);
     assert_eq!(shares[3], 1.0);
     // Faces crossed: from 1.5 to 4.5 crosses y = 2 (bin 1) and y = 4 (bin 2).

@@ -1,0 +1,49 @@
+//! Blow-up detection and the Stokes-number check (SPEC sections 1 and 5).
+use sim::run::initial_particles;
+use sim::scene::Scene;
+use sim::simulation::Simulation;
+use sim::SimError;
+
+fn dense(run: &str) -> Scene {
+    let text = format!(
+        "[box]\nl_x = 10\nl_y = 12\nl_z = 10\n[particles]\nphi = 0.58\n[fluid]\nprofile = \"0.2*sin(2*pi*y/L)\"\n[run]\n{run}\n"
+    );
+    Scene::from_toml(&text, false).unwrap()
+}
+
+#[test]
+fn a_time_step_far_above_the_lubrication_limit_is_caught_not_silent() {
+    let scene = dense("dt_factor = 20.0");
+    let mut sim = Simulation::new(&scene, initial_particles(&scene).unwrap()).unwrap();
+    match sim.advance(20_000) {
+        Err(SimError::BlowUp { step, particle, cause, .. }) => {
+            assert!(step > 0 && particle < sim.particles.len());
+            assert!(cause.contains("time step") || cause.contains("k_n"), "cause: {cause}");
+        }
+        other => panic!("expected a blow-up, got {other:?}"),
+    }
+}
+
+#[test]
+fn the_automatic_time_step_is_stable_on_the_same_scene() {
+    let scene = dense("");
+    let mut sim = Simulation::new(&scene, initial_particles(&scene).unwrap()).unwrap();
+    sim.advance(20_000).unwrap();
+    assert!(sim.particles.vel.iter().all(|v| v.iter().all(|c| c.is_finite())));
+    assert!(sim.contacts.max_overlap_ratio < 0.05);
+}
+
+#[test]
+fn a_large_stokes_number_warns_and_strict_refuses() {
+    let text = "[box]\nl_x = 8\nl_y = 12\nl_z = 8\n[particles]\nphi = 0.5\nrho = 20\n[fluid]\nprofile = \"0.1*sin(2*pi*y/L)\"\n";
+    let lenient = Scene::from_toml(text, false).unwrap();
+    assert!(lenient.stokes > 0.1);
+    assert!(lenient.warnings.iter().any(|w| w.contains("Stokes")));
+    match Scene::from_toml(text, true) {
+        Err(SimError::Field { field, message }) => {
+            assert_eq!(field, "particles.rho");
+            assert!(message.contains("Stokes"));
+        }
+        other => panic!("expected a refusal, got {:?}", other.map(|s| s.stokes)),
+    }
+}

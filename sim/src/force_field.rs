@@ -39,7 +39,6 @@ pub struct ForceField {
     pub eta: f64,
     pub contact: Option<ContactLaw>,
     pub drag: bool,
-    pub radii: Vec<f64>,
     n_species: usize,
     pairs: Vec<PairConstants>,
     /// Largest pair cut-off.
@@ -51,12 +50,12 @@ impl ForceField {
     pub fn from_scene(scene: &Scene) -> Self {
         let f = &scene.file.forces;
         let eta = scene.file.fluid.eta;
-        let radii = scene.file.particles.radii.clone();
+        let radii = &scene.file.particles.radii;
         let n_species = radii.len();
         let mut pairs = Vec::with_capacity(n_species * n_species);
         let mut max_cutoff: f64 = 0.0;
-        for &a_i in &radii {
-            for &a_j in &radii {
+        for &a_i in radii {
+            for &a_j in radii {
                 let contact_distance = a_i + a_j;
                 let lubrication = f
                     .lubrication
@@ -75,7 +74,6 @@ impl ForceField {
             eta,
             contact: f.contact.then(|| ContactLaw::new(f.k_n, f.mu_p)),
             drag: f.drag,
-            radii,
             n_species,
             pairs,
             max_cutoff,

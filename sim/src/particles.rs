@@ -3,6 +3,12 @@ use crate::Vec3;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
+/// Moment of inertia `(2/5) m a^2` of a solid sphere (eq 3.2).
+#[inline]
+pub fn sphere_inertia(mass: f64, radius: f64) -> f64 {
+    0.4 * mass * radius * radius
+}
+
 /// Positions, velocities, spins and accumulated loads of every particle, plus the
 /// per-particle constants the integrator needs.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -75,7 +81,7 @@ impl Particles {
     /// Moment of inertia `(2/5) m a^2` of particle i (eq 3.2).
     #[inline]
     pub fn inertia(&self, i: usize) -> f64 {
-        0.4 * self.mass[i] * self.radius[i] * self.radius[i]
+        sphere_inertia(self.mass[i], self.radius[i])
     }
 
     /// Total kinetic energy, translational plus rotational.

@@ -5,7 +5,7 @@ use crate::error::SimError;
 use crate::flow_profile::FlowProfile;
 use crate::force_accumulation::{ContactStats, ForceAccumulator};
 use crate::force_field::ForceField;
-use crate::particles::Particles;
+use crate::particles::{sphere_inertia, Particles};
 use crate::periodic_box::PeriodicBox;
 use crate::scene::Scene;
 use crate::stage_timers::{Stage, StageTimers};
@@ -153,7 +153,7 @@ impl Simulation {
         let (force, torque, mass, radius) = (&p.force, &p.torque, &p.mass, &p.radius);
         p.vel.par_iter_mut().zip(p.omega.par_iter_mut()).enumerate().with_min_len(1024).for_each(|(i, (v, w))| {
             *v += force[i] * (h / mass[i]);
-            *w += torque[i] * (h / (0.4 * mass[i] * radius[i] * radius[i]));
+            *w += torque[i] * (h / sphere_inertia(mass[i], radius[i]));
         });
     }
 

@@ -1,6 +1,8 @@
 //! `suspflow`: dense-suspension rheology under inhomogeneous flow.
 mod cmd_bench;
+mod cmd_predict;
 mod cmd_simulate;
+mod cmd_train;
 
 use clap::{Parser, Subcommand};
 
@@ -17,6 +19,10 @@ enum Command {
     Simulate(cmd_simulate::Args),
     /// Measure particle-steps per second of the force + integration loop.
     Bench(cmd_bench::Args),
+    /// Train the surrogate mappings on a dataset.
+    Train(cmd_train::Args),
+    /// Predict a profile with a trained mapping.
+    Predict(cmd_predict::Args),
 }
 
 /// Runs `f` on a pool of `threads` threads (0 = all cores).
@@ -26,8 +32,15 @@ pub fn with_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> an
 }
 
 fn main() -> anyhow::Result<()> {
+    // XGBoost's OpenMP threads otherwise spin between parallel regions and stall next to
+    // busy threads; set before any thread starts (see .cargo/config.toml).
+    if std::env::var_os("OMP_WAIT_POLICY").is_none() {
+        std::env::set_var("OMP_WAIT_POLICY", "PASSIVE");
+    }
     match Cli::parse().command {
         Command::Simulate(args) => cmd_simulate::run(args),
         Command::Bench(args) => cmd_bench::run(args),
+        Command::Train(args) => cmd_train::run(args),
+        Command::Predict(args) => cmd_predict::run(args),
     }
 }

@@ -1,0 +1,52 @@
+//! `suspflow predict --model DIR/<mapping> --input FILE.csv`: a trained mapping's
+//! predictions for every row of a table of its feature columns.
+use anyhow::Context;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+use surrogate::{Dataset, TrainedModel};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Model, as `DIR/<mapping>` (reads `DIR/<mapping>.json` and `DIR/<mapping>.meta.json`).
+    #[arg(long)]
+    model: PathBuf,
+    /// Table with the mapping's feature columns (other columns are copied through).
+    #[arg(long)]
+    input: PathBuf,
+    /// Output table; standard output when absent.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let name = args
+        .model
+        .file_name()
+        .and_then(|n| n.to_str())
+        .map(|n| n.trim_end_matches(".meta.json").trim_end_matches(".json"))
+        .with_context(|| format!("--model {}: expected DIR/<mapping>", args.model.display()))?;
+    let dir = args.model.parent().map(PathBuf::from).unwrap_or_default();
+    let model = TrainedModel::load(&dir, name)?;
+    let dataset = Dataset::read_csv(&args.input)?;
+    let predicted = model.predict(&dataset)?;
+    let elapsed = started.elapsed();
+    let meta = model.meta();
+    let mut out = String::new();
+    let mut header: Vec<String> = meta.features.clone();
+    header.extend(meta.outputs.iter().map(|o| format!("{o}_pred")));
+    let _ = writeln!(out, "{}", header.join(","));
+    let names: Vec<&str> = meta.features.iter().map(String::as_str).collect();
+    let features = dataset.matrix(&names)?;
+    for (row, pred) in features.rows().into_iter().zip(predicted.rows()) {
+        let cells: Vec<String> = row.iter().chain(pred.iter()).map(|x| format!("{x:e}")).collect();
+        let _ = writeln!(out, "{}", cells.join(","));
+    }
+    match &args.out {
+        Some(path) => std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))?,
+        None => print!("{out}"),
+    }
+    eprintln!("{} rows predicted by `{}` in {:.2} ms (load + read + predict)", dataset.n_rows(), name, elapsed.as_secs_f64() * 1e3);
+    Ok(())
+}

@@ -9,7 +9,7 @@ use crate::packing::random_packing;
 use crate::particles::Particles;
 use crate::profile::{Profile, ProfileContext};
 use crate::scene::{Scene, SceneFile};
-use crate::simulation::Simulation;
+use crate::simulation::{Simulation, SystemState};
 use crate::snapshot;
 use crate::stage_timers::Stage;
 use crate::steady_state::{Drift, SteadyState};
@@ -57,16 +57,10 @@ pub struct RunOptions {
     pub interrupt: Option<&'static AtomicBool>,
 }
 
-/// Everything a resumed run needs, saved in checkpoints.
+/// The run's own progress (the system's state is kept by the [`Simulation`]).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 struct RunState {
     scene: SceneFile,
-    particles: Particles,
-    list_reference: Vec<Vec3>,
-    springs: Vec<Vec3>,
-    step: u64,
-    time: f64,
-    list_builds: u64,
     phase: Phase,
     steady: SteadyState,
     averaging: BlockSums,
@@ -74,6 +68,13 @@ struct RunState {
     overlap_mean_sum: f64,
     overlap_max: f64,
     wall_s: f64,
+}
+
+/// Everything a resumed run needs, written at checkpoints.
+#[derive(Debug, Serialize, Deserialize)]
+struct Checkpoint {
+    run: RunState,
+    system: SystemState,
 }
 
 /// What a finished run reports besides its profile (written to summary.json).
@@ -137,18 +138,12 @@ pub fn initial_particles(scene: &Scene) -> Result<Particles, SimError> {
     Ok(Particles::at_rest(pos.into_iter().map(Vec3::from).collect(), radius, scene.particle_species(), scene.file.particles.rho))
 }
 
-fn fresh_state(scene: &Scene, sim: &Simulation) -> RunState {
+fn fresh_state(scene: &Scene) -> RunState {
     let r = &scene.file.run;
     let per_window = (r.window_strain / r.sample_strain).round().max(1.0) as usize;
     let blocks = r.blocks;
     RunState {
         scene: scene.file.clone(),
-        particles: sim.particles.clone(),
-        list_reference: sim.list.reference.clone(),
-        springs: sim.springs.clone(),
-        step: 0,
-        time: 0.0,
-        list_builds: sim.list_builds,
         phase: Phase::Equilibrating,
         steady: SteadyState::new(scene.n_bins, per_window, r.steady_chi2),
         averaging: BlockSums::new(scene.n_bins, blocks, r.snapshots / blocks),
@@ -175,23 +170,17 @@ pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress,
     let resume_from = opts.checkpoint.as_ref().filter(|p| opts.resume && p.exists());
     let (mut sim, mut st) = match resume_from {
         Some(path) => {
-            let st: RunState = checkpoint::load(path)?;
+            let Checkpoint { run: st, system } = checkpoint::load(path)?;
             if !same_scene(&st.scene, &scene.file) {
                 return Err(SimError::Checkpoint {
                     path: path.display().to_string(),
                     message: "was written for a different scene; remove it or drop --resume".into(),
                 });
             }
-            let mut sim = Simulation::restore(scene, st.particles.clone(), st.list_reference.clone(), st.springs.clone())?;
-            sim.step = st.step;
-            sim.time = st.time;
-            sim.list_builds = st.list_builds;
-            (sim, st)
+            (Simulation::restore(scene, system)?, st)
         }
         None => {
-            let sim = Simulation::new(scene, initial_particles(scene)?)?;
-            let st = fresh_state(scene, &sim);
-            (sim, st)
+            (Simulation::new(scene, initial_particles(scene)?)?, fresh_state(scene))
         }
     };
     let ctx = profile_context(scene);
@@ -248,7 +237,7 @@ pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress,
         if let Some(path) = &opts.checkpoint {
             if interrupted || last_checkpoint.elapsed().as_secs_f64() >= r.checkpoint_every_s {
                 st.wall_s = wall_before + started.elapsed().as_secs_f64();
-                save_state(&mut st, &sim, path)?;
+                checkpoint::save(path, &Checkpoint { run: st.clone(), system: sim.state() })?;
                 last_checkpoint = Instant::now();
             }
         }
@@ -291,14 +280,4 @@ pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress,
         code_version: env!("CARGO_PKG_VERSION"),
     };
     Ok(RunOutcome { profile, summary })
-}
-
-fn save_state(st: &mut RunState, sim: &Simulation, path: &std::path::Path) -> Result<(), SimError> {
-    st.particles = sim.particles.clone();
-    st.list_reference = sim.list.reference.clone();
-    st.springs = sim.springs.clone();
-    st.step = sim.step;
-    st.time = sim.time;
-    st.list_builds = sim.list_builds;
-    checkpoint::save(path, st)
 }

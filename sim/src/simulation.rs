@@ -13,6 +13,7 @@ use crate::timestep::TimeStep;
 use crate::verlet_list::VerletList;
 use crate::Vec3;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 /// Overlap ratio (overlap / smaller radius) beyond which a run is declared blown up.
 pub const MAX_OVERLAP_RATIO: f64 = 0.1;
@@ -21,6 +22,18 @@ pub const MAX_OVERLAP_RATIO: f64 = 0.1;
 pub const MAX_KINETIC_RATIO: f64 = 1e4;
 /// Steps between kinetic-energy checks.
 const ENERGY_CHECK_EVERY: u64 = 64;
+
+/// What a checkpoint keeps of a [`Simulation`]: particles (with their current forces),
+/// the positions the neighbour list was built from, the contact springs and the clock.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SystemState {
+    pub particles: Particles,
+    pub list_reference: Vec<Vec3>,
+    pub springs: Vec<Vec3>,
+    pub step: u64,
+    pub time: f64,
+    pub list_builds: u64,
+}
 
 /// Particles, their neighbour list and forces, advanced by velocity Verlet.
 pub struct Simulation {
@@ -84,14 +97,29 @@ impl Simulation {
         })
     }
 
+    /// The state a checkpoint needs to continue this system bit for bit.
+    pub fn state(&self) -> SystemState {
+        SystemState {
+            particles: self.particles.clone(),
+            list_reference: self.list.reference.clone(),
+            springs: self.springs.clone(),
+            step: self.step,
+            time: self.time,
+            list_builds: self.list_builds,
+        }
+    }
+
     /// A system continued from a checkpoint: the neighbour list is rebuilt around the
     /// saved reference positions and the saved forces are kept, so the continuation is
     /// bitwise identical to the uninterrupted run.
-    pub fn restore(scene: &Scene, particles: Particles, reference: Vec<Vec3>, springs: Vec<Vec3>) -> Result<Self, SimError> {
-        let mut sim = Self::bare(scene, particles)?;
+    pub fn restore(scene: &Scene, state: SystemState) -> Result<Self, SimError> {
+        let mut sim = Self::bare(scene, state.particles)?;
         let identity: Vec<u32> = (0..sim.particles.len() as u32).collect();
-        sim.build_list(reference, &identity);
-        sim.springs = springs;
+        sim.build_list(state.list_reference, &identity);
+        sim.springs = state.springs;
+        sim.step = state.step;
+        sim.time = state.time;
+        sim.list_builds = state.list_builds;
         Ok(sim)
     }
 
@@ -201,15 +229,18 @@ impl Simulation {
 
     /// Overlap every step; non-finite state and runaway kinetic energy every few steps.
     fn check(&self) -> Result<(), SimError> {
-        let dt_hint = format!(
-            "time step {:.3e} (set by {}) too large for the stiffest term; lower run.dt_safety or run.dt",
-            self.timestep.dt, self.timestep.limit
-        );
+        // Built only on failure: this runs every step.
+        let dt_hint = || {
+            format!(
+                "time step {:.3e} (set by {}) too large for the stiffest term; lower run.dt_safety or run.dt",
+                self.timestep.dt, self.timestep.limit
+            )
+        };
         if self.contacts.max_overlap_ratio > MAX_OVERLAP_RATIO {
             let (i, j) = self.contacts.max_pair;
             return Err(self.blow_up(i, format!(
                 "overlap with particle {j} is {:.3} of the smaller radius (limit {MAX_OVERLAP_RATIO})",
-                self.contacts.max_overlap_ratio), &format!("contacts too soft for the stress (raise forces.k_n) or {dt_hint}")));
+                self.contacts.max_overlap_ratio), &format!("contacts too soft for the stress (raise forces.k_n) or {}", dt_hint())));
         }
         if !self.step.is_multiple_of(ENERGY_CHECK_EVERY) {
             return Ok(());
@@ -219,7 +250,7 @@ impl Simulation {
             !(p.pos[i].iter().all(|c| c.is_finite()) && p.vel[i].iter().all(|c| c.is_finite())
                 && p.omega[i].iter().all(|c| c.is_finite()))
         }) {
-            return Err(self.blow_up(i, "position or velocity is not finite".into(), &dt_hint));
+            return Err(self.blow_up(i, "position or velocity is not finite".into(), &dt_hint()));
         }
         let kinetic = p.kinetic_energy();
         if kinetic > MAX_KINETIC_RATIO * self.kinetic_scale {
@@ -228,7 +259,7 @@ impl Simulation {
                 .unwrap_or(0);
             return Err(self.blow_up(i, format!(
                 "kinetic energy {kinetic:.3e} is {:.1e} times the streaming energy (fastest particle)",
-                kinetic / self.kinetic_scale), &dt_hint));
+                kinetic / self.kinetic_scale), &dt_hint()));
         }
         Ok(())
     }

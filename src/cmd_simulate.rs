@@ -111,14 +111,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 /// Derived quantities of a valid scene.
 fn print_check(scene: &Scene) -> anyhow::Result<()> {
-    let field = sim::force_field::ForceField::from_scene(scene);
-    let t = sim::timestep::TimeStep::choose(scene, &field);
+    let t = sim::timestep::TimeStep::for_scene(scene);
     let r = &scene.file.run;
-    let steps_per_strain = 1.0 / (scene.gdot_max() * t.dt);
+    let steps_per_strain = t.steps_per_strain(scene);
     println!("scene `{}` is valid", scene.file.name);
     println!("particles: {} (species counts {:?}), phi = {:.4}", scene.n_particles(), scene.counts, scene.phi_actual);
     println!("bins: {} of width {}", scene.n_bins, r.bin_width);
-    println!("gdot_max = {:.4e}, Stokes number = {:.3e}", scene.gdot_max(), scene.stokes);
+    println!("gdot_max = {:.4e}, rho = {:.4}, Stokes number = {:.3e}", scene.gdot_max(), scene.rho, scene.stokes);
     println!(
         "dt = {:.3e} set by {} (critical steps: contact {:.3e}, drag {:.3e}, lubrication {:.3e})",
         t.dt, t.limit, t.contact_critical, t.drag_critical, t.lubrication_critical

@@ -1,8 +1,12 @@
 //! `suspflow`: dense-suspension rheology under inhomogeneous flow.
 mod cmd_bench;
+mod cmd_generate;
+mod cmd_merge;
 mod cmd_predict;
 mod cmd_simulate;
 mod cmd_train;
+mod dataset_file;
+mod scene_work;
 
 use clap::{Parser, Subcommand};
 
@@ -17,6 +21,10 @@ struct Cli {
 enum Command {
     /// Simulate a scene to its steady state and write the binned profile.
     Simulate(cmd_simulate::Args),
+    /// Run every scene of a grid (resumably, in parallel) into one dataset.
+    Generate(cmd_generate::Args),
+    /// Combine datasets of distinct scenes (e.g. the shards of a grid) into one.
+    Merge(cmd_merge::Args),
     /// Measure particle-steps per second of the force + integration loop.
     Bench(cmd_bench::Args),
     /// Train the surrogate mappings on a dataset.
@@ -39,6 +47,8 @@ fn main() -> anyhow::Result<()> {
     }
     match Cli::parse().command {
         Command::Simulate(args) => cmd_simulate::run(args),
+        Command::Generate(args) => cmd_generate::run(args),
+        Command::Merge(args) => cmd_merge::run(args),
         Command::Bench(args) => cmd_bench::run(args),
         Command::Train(args) => cmd_train::run(args),
         Command::Predict(args) => cmd_predict::run(args),

@@ -28,6 +28,9 @@ pub enum SimError {
     /// Writing results failed.
     #[error("writing {path}: {message}")]
     Output { path: String, message: String },
+    /// A grid file is invalid or expands to an invalid scene.
+    #[error("grid {0}")]
+    Grid(String),
     /// The run was interrupted (Ctrl-C); the last checkpoint holds its state.
     #[error("interrupted at step {step}; resume with --resume")]
     Interrupted { step: u64 },

@@ -18,6 +18,7 @@ pub mod error;
 pub mod flow_profile;
 pub mod force_accumulation;
 pub mod force_field;
+pub mod grid;
 pub mod lubrication;
 pub mod output;
 pub mod packing;
@@ -35,3 +36,7 @@ pub mod timestep;
 pub mod verlet_list;
 
 pub use error::SimError;
+
+/// Version of the code that produced a result: package version, commit, and `-dirty` when
+/// the working tree had uncommitted changes at build time (see `build.rs`).
+pub const CODE_VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("SUSPFLOW_COMMIT"));

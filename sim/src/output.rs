@@ -10,9 +10,12 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
 
-/// Header of a profile table: provenance, position, then every observable and its error.
+/// Header of a profile table (SPEC section 8, the dataset schema): the scene's provenance
+/// (id, profile, L_y, phi, seed, strain at which it was steady, momentum residual, code
+/// version), the bin position and streaming velocity, then every observable and its
+/// standard error.
 pub fn profile_header() -> String {
-    let mut h = String::from("scene_id,profile,L_y,phi,seed,y,u_inf");
+    let mut h = String::from("scene_id,profile,L_y,phi,seed,steady_strain,momentum_residual,code_version,y,u_inf");
     for c in COLUMNS {
         let _ = write!(h, ",{c},{c}_se");
     }
@@ -24,14 +27,15 @@ fn num(x: f64) -> String {
     if x.is_finite() { format!("{x:e}") } else { String::new() }
 }
 
-/// The rows of a profile table for `profile` of `scene` (no header).
-pub fn profile_rows(scene: &Scene, profile: &Profile) -> String {
+/// The rows of a profile table for `profile` of `scene`, run as `summary` says (no header).
+pub fn profile_rows(scene: &Scene, profile: &Profile, summary: &RunSummary) -> String {
     let f = &scene.file;
     let mut out = String::new();
     let (mean, se) = (profile.mean.columns(), profile.se.columns());
     for k in 0..profile.y.len() {
-        let _ = write!(out, "{},\"{}\",{},{},{},{},{}", f.name, f.fluid.profile, scene.box_len[1], f.particles.phi,
-            f.seed, num(profile.y[k]), num(profile.u_inf[k]));
+        let _ = write!(out, "{},\"{}\",{},{},{},{},{},{},{},{}", f.name, f.fluid.profile, scene.box_len[1], f.particles.phi,
+            f.seed, num(summary.strain_to_steady), num(summary.momentum_residual.unwrap_or(f64::NAN)), summary.code_version,
+            num(profile.y[k]), num(profile.u_inf[k]));
         for c in 0..COLUMNS.len() {
             let _ = write!(out, ",{},{}", num(mean[c][k]), num(se[c][k]));
         }
@@ -44,7 +48,7 @@ pub fn profile_rows(scene: &Scene, profile: &Profile) -> String {
 pub fn write_results(dir: &Path, scene: &Scene, profile: &Profile, summary: &RunSummary) -> Result<(), SimError> {
     let err = |e: std::io::Error| SimError::Output { path: dir.display().to_string(), message: e.to_string() };
     std::fs::create_dir_all(dir).map_err(err)?;
-    let csv = format!("{}\n{}", profile_header(), profile_rows(scene, profile));
+    let csv = format!("{}\n{}", profile_header(), profile_rows(scene, profile, summary));
     write_atomic(&dir.join("profile.csv"), csv.as_bytes())?;
     let json = serde_json::to_vec_pretty(summary)
         .map_err(|e| SimError::Output { path: dir.join("summary.json").display().to_string(), message: e.to_string() })?;

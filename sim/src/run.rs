@@ -135,7 +135,7 @@ pub fn initial_particles(scene: &Scene) -> Result<Particles, SimError> {
     let radius = scene.particle_radii();
     let mut rng = rand::rngs::StdRng::seed_from_u64(scene.file.seed);
     let pos = random_packing(&radius, scene.box_len, &mut rng, PACKING_GAP)?;
-    Ok(Particles::at_rest(pos.into_iter().map(Vec3::from).collect(), radius, scene.particle_species(), scene.file.particles.rho))
+    Ok(Particles::at_rest(pos.into_iter().map(Vec3::from).collect(), radius, scene.particle_species(), scene.rho))
 }
 
 fn fresh_state(scene: &Scene) -> RunState {
@@ -277,7 +277,7 @@ pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress,
         undefined_bins,
         warnings,
         stress_convention: "sigma = sum of stresslets -F_ij (x) r_ij / V_b, positive in compression (minus the Cauchy stress); P = tr(sigma)/3",
-        code_version: env!("CARGO_PKG_VERSION"),
+        code_version: crate::CODE_VERSION,
     };
     Ok(RunOutcome { profile, summary })
 }

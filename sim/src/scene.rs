@@ -48,9 +48,13 @@ pub struct ParticleSection {
     /// Number fractions of the species (normalised to sum 1).
     #[serde(default = "default_fractions")]
     pub fractions: Vec<f64>,
-    /// Particle density (mass per a^3).
-    #[serde(default = "one")]
-    pub rho: f64,
+    /// Particle density (mass per a^3); 1 when neither this nor `stokes` is given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rho: Option<f64>,
+    /// Target Stokes number `rho a^2 gdot_max / eta` (SPEC section 1): sets `rho` from the
+    /// profile's largest shear rate, so that scenes with different profiles share one St.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stokes: Option<f64>,
 }
 
 /// Suspending fluid and its streaming velocity.
@@ -178,6 +182,8 @@ pub struct Scene {
     pub n_bins: usize,
     /// Largest pair interaction distance (contact or lubrication cut-off), units a.
     pub interaction_range: f64,
+    /// Particle density, given or derived from the target Stokes number.
+    pub rho: f64,
     /// Stokes number `rho a^2 gdot_max / eta` with a the small radius (SPEC section 1).
     pub stokes: f64,
     /// Non-fatal problems (Stokes number too large, ...).
@@ -233,7 +239,6 @@ impl Scene {
         if p.fractions.iter().any(|f| !(f.is_finite() && *f >= 0.0)) || p.fractions.iter().sum::<f64>() <= 0.0 {
             return Err(SimError::field("particles.fractions", "must be non-negative with a positive sum"));
         }
-        positive("particles.rho", p.rho)?;
         positive("fluid.eta", file.fluid.eta)?;
         let f = &file.forces;
         positive("forces.k_n", f.k_n)?;
@@ -304,13 +309,28 @@ impl Scene {
         let solid: f64 = counts.iter().zip(&p.radii).map(|(&c, a)| c as f64 * 4.0 / 3.0 * PI * a.powi(3)).sum();
         let phi_actual = solid / volume;
 
-        let stokes = p.rho * a_min * a_min * profile.max_abs_shear_rate() / file.fluid.eta;
+        let gdot_max = profile.max_abs_shear_rate();
+        let rho = match (p.rho, p.stokes) {
+            (Some(_), Some(_)) => return Err(SimError::field("particles.stokes",
+                "give either particles.rho or particles.stokes, not both (stokes sets rho)")),
+            (Some(rho), None) => { positive("particles.rho", rho)?; rho }
+            (None, Some(st)) => {
+                positive("particles.stokes", st)?;
+                if !(gdot_max > 0.0) {
+                    return Err(SimError::field("particles.stokes", "needs a profile with a non-zero shear rate"));
+                }
+                st * file.fluid.eta / (a_min * a_min * gdot_max)
+            }
+            (None, None) => 1.0,
+        };
+        let stokes = rho * a_min * a_min * gdot_max / file.fluid.eta;
         let mut warnings = Vec::new();
         if stokes >= 0.1 {
             let msg = format!(
                 "Stokes number rho a^2 gdot_max / eta = {stokes:.3} >= 0.1: inertia is not negligible (thesis 4.2.4)");
             if strict {
-                return Err(SimError::field("particles.rho", msg));
+                let field = if p.stokes.is_some() { "particles.stokes" } else { "particles.rho" };
+                return Err(SimError::field(field, msg));
             }
             warnings.push(msg);
         }
@@ -320,6 +340,7 @@ impl Scene {
             phi_actual,
             n_bins,
             interaction_range,
+            rho,
             stokes,
             warnings,
             profile,

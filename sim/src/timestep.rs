@@ -48,7 +48,7 @@ impl TimeStep {
     /// Critical steps over every species pair, and the step the scene asks for:
     /// `run.dt` if given, else `dt_safety * dt_factor * min(critical steps)`.
     pub fn choose(scene: &Scene, field: &ForceField) -> TimeStep {
-        let rho = scene.file.particles.rho;
+        let rho = scene.rho;
         let eta = scene.file.fluid.eta;
         let radii = &scene.file.particles.radii;
         let mass = |a: f64| 4.0 / 3.0 * PI * rho * a.powi(3);
@@ -80,5 +80,15 @@ impl TimeStep {
             (dt, limit) = (user, DtLimit::User);
         }
         TimeStep { dt, limit, contact_critical: contact, drag_critical: drag, lubrication_critical: lub }
+    }
+
+    /// The step `scene` will run with (its force field built from the scene).
+    pub fn for_scene(scene: &Scene) -> TimeStep {
+        Self::choose(scene, &ForceField::from_scene(scene))
+    }
+
+    /// Steps per unit strain (strain = largest shear rate of the profile x time).
+    pub fn steps_per_strain(&self, scene: &Scene) -> f64 {
+        1.0 / (scene.gdot_max() * self.dt)
     }
 }

@@ -29,7 +29,7 @@ fn rows(scene: &Scene, opts: &RunOptions, stop_after: Option<(usize, &'static At
             }
         }
     })?;
-    Ok(profile_rows(scene, &out.profile))
+    Ok(profile_rows(scene, &out.profile, &out.summary))
 }
 
 #[test]

@@ -1,0 +1,149 @@
+//! Dataset CSV files (SPEC section 8): one header line, then one line per bin per scene.
+//!
+//! Lines are checked as they are read (field count, numbers where numbers belong, one
+//! scene's lines together) and copied byte for byte, so that assembling per-scene parts,
+//! or merging shards, gives the same bytes as one whole run. Scene ids sort in grid order
+//! (`<grid>_<zero-padded index>`), which fixes the order of the scenes in every output.
+use anyhow::{bail, Context};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// Columns whose cells are text; every other cell is a number or empty (undefined).
+const TEXT_COLUMNS: [&str; 3] = ["scene_id", "profile", "code_version"];
+
+/// The lines of one dataset file, grouped by scene.
+pub struct DatasetFile {
+    pub header: String,
+    /// Scene id -> that scene's lines (without end-of-line), in file order.
+    pub scenes: BTreeMap<String, Vec<String>>,
+}
+
+impl DatasetFile {
+    /// Reads and checks `path`; errors name the file and the line (1 = header).
+    pub fn read(path: &Path) -> anyhow::Result<DatasetFile> {
+        let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+        let text = String::from_utf8(bytes).map_err(|e| anyhow::anyhow!("{}: not UTF-8 text ({e})", path.display()))?;
+        Self::parse(&text).with_context(|| format!("in {}", path.display()))
+    }
+
+    /// Parses dataset text; see [`DatasetFile::read`].
+    pub fn parse(text: &str) -> anyhow::Result<DatasetFile> {
+        if text.is_empty() {
+            bail!("the file is empty (expected a header line)");
+        }
+        if !text.ends_with('\n') {
+            bail!("line {} is truncated (the file does not end with an end-of-line)", text.lines().count());
+        }
+        let mut lines = text.lines();
+        let header = lines.next().unwrap_or_default().to_string();
+        let names = fields(&header).context("line 1 (header)")?;
+        let id_column = names.iter().position(|n| n == "scene_id")
+            .with_context(|| format!("line 1: no `scene_id` column in the header `{header}`"))?;
+        let numeric: Vec<bool> = names.iter().map(|n| !TEXT_COLUMNS.contains(&n.as_str())).collect();
+        let mut scenes: BTreeMap<String, Vec<String>> = BTreeMap::new();
+        let mut last_id: Option<String> = None;
+        for (k, line) in lines.enumerate() {
+            let number = k + 2;
+            let cells = fields(line).with_context(|| format!("line {number}"))?;
+            if cells.len() != names.len() {
+                bail!("line {number} has {} fields where the header has {} (truncated or corrupt line?)", cells.len(), names.len());
+            }
+            for ((cell, name), &is_number) in cells.iter().zip(&names).zip(&numeric) {
+                if is_number && !cell.is_empty() && !cell.parse::<f64>().is_ok_and(f64::is_finite) {
+                    bail!("line {number}, column `{name}`: `{cell}` is not a finite number");
+                }
+            }
+            let id = cells[id_column].clone();
+            if last_id.as_ref() != Some(&id) && scenes.contains_key(&id) {
+                bail!("line {number}: scene `{id}` appears again after other scenes (duplicated or interleaved rows)");
+            }
+            scenes.entry(id.clone()).or_default().push(line.to_string());
+            last_id = Some(id);
+        }
+        Ok(DatasetFile { header, scenes })
+    }
+
+    /// Adds the scenes of `other`, which must have the same header and no scene in common.
+    pub fn absorb(&mut self, other: DatasetFile, other_name: &str) -> anyhow::Result<()> {
+        if other.header != self.header {
+            bail!("{other_name}: its header differs from the first file's:\n  {}\n  {}", other.header, self.header);
+        }
+        for (id, lines) in other.scenes {
+            if self.scenes.contains_key(&id) {
+                bail!("{other_name}: scene `{id}` is also in an earlier file (overlapping shards?)");
+            }
+            self.scenes.insert(id, lines);
+        }
+        Ok(())
+    }
+
+    /// The file's text: header, then the scenes in id order.
+    pub fn to_text(&self) -> String {
+        let mut out = String::with_capacity(self.scenes.values().flatten().map(|l| l.len() + 1).sum::<usize>() + self.header.len() + 1);
+        out.push_str(&self.header);
+        out.push('\n');
+        for line in self.scenes.values().flatten() {
+            out.push_str(line);
+            out.push('\n');
+        }
+        out
+    }
+
+    /// Number of data lines.
+    pub fn rows(&self) -> usize {
+        self.scenes.values().map(Vec::len).sum()
+    }
+}
+
+/// The fields of one CSV line (quotes removed).
+fn fields(line: &str) -> anyhow::Result<Vec<String>> {
+    let mut reader = csv::ReaderBuilder::new().has_headers(false).flexible(true).from_reader(line.as_bytes());
+    let mut record = csv::StringRecord::new();
+    let read = reader.read_record(&mut record).map_err(|e| anyhow::anyhow!("not valid CSV: {e}"))?;
+    if !read {
+        bail!("is empty");
+    }
+    Ok(record.iter().map(str::to_string).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str = "scene_id,profile,y,mu";
+
+    #[test]
+    fn merge_keeps_bytes_and_orders_scenes() {
+        let mut a = DatasetFile::parse(&format!("{HEADER}\ng_002,\"sin(y)\",1e0,5e-1\n")).unwrap();
+        let b = DatasetFile::parse(&format!("{HEADER}\ng_000,\"sin(y)\",1e0,\ng_000,\"sin(y)\",3e0,2\n")).unwrap();
+        a.absorb(b, "b").unwrap();
+        assert_eq!(a.to_text(), format!("{HEADER}\ng_000,\"sin(y)\",1e0,\ng_000,\"sin(y)\",3e0,2\ng_002,\"sin(y)\",1e0,5e-1\n"));
+        assert_eq!(a.rows(), 3);
+    }
+
+    #[test]
+    fn bad_lines_are_named() {
+        let cases = [
+            (format!("{HEADER}\ng_0,\"s\",1,2\ng_0,\"s\",1"), "line 3"),
+            (format!("{HEADER}\ng_0,\"s\",1\n"), "line 2 has 3 fields"),
+            (format!("{HEADER}\ng_0,\"s\",1,x\n"), "line 2, column `mu`"),
+            (format!("{HEADER}\ng_0,\"s\",1,NaN\n"), "line 2, column `mu`"),
+            (format!("{HEADER}\ng_0,\"s\",1,2\ng_1,\"s\",1,2\ng_0,\"s\",1,2\n"), "line 4: scene `g_0`"),
+            ("profile,y\nx,1\n".to_string(), "no `scene_id`"),
+            (String::new(), "empty"),
+        ];
+        for (text, expected) in cases {
+            let err = format!("{:#}", DatasetFile::parse(&text).err().unwrap_or_else(|| panic!("accepted {text:?}")));
+            assert!(err.contains(expected), "{err} should mention {expected}");
+        }
+    }
+
+    #[test]
+    fn overlapping_or_mismatched_files_are_refused() {
+        let mut a = DatasetFile::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
+        let same = DatasetFile::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
+        assert!(format!("{:#}", a.absorb(same, "b").unwrap_err()).contains("also in an earlier file"));
+        let other = DatasetFile::parse("scene_id,y\ng_1,1\n").unwrap();
+        assert!(format!("{:#}", a.absorb(other, "c").unwrap_err()).contains("header differs"));
+    }
+}

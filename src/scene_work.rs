@@ -1,0 +1,82 @@
+//! The work directory of `suspflow generate`: one folder per scene holding the scene it was
+//! made for (`scene.toml`), its checkpoint while it runs, and then either its results
+//! (`profile.csv`, `summary.json`, as `simulate` writes them) or `failed.txt` with the reason.
+//! The files say where each scene is, so a re-run continues where the last one stopped.
+use anyhow::{bail, Context};
+use sim::scene::SceneFile;
+use std::path::{Path, PathBuf};
+
+/// Where a scene is.
+pub enum SceneStatus {
+    /// Finished: its summary.json.
+    Done(serde_json::Value),
+    /// Failed for this reason; not retried unless asked.
+    Failed(String),
+    /// Not started, or interrupted (then it has a checkpoint).
+    Pending,
+}
+
+/// The folder of one scene.
+pub struct SceneWork {
+    pub dir: PathBuf,
+}
+
+impl SceneWork {
+    /// The folder of scene `id` under `root` (not created).
+    pub fn new(root: &Path, id: &str) -> SceneWork {
+        SceneWork { dir: root.join(id) }
+    }
+
+    /// Creates the folder for `file`, or checks that an existing one was made for the same
+    /// scene (a changed grid must not mix old and new results).
+    pub fn prepare(&self, file: &SceneFile) -> anyhow::Result<()> {
+        std::fs::create_dir_all(&self.dir).with_context(|| format!("creating {}", self.dir.display()))?;
+        let text = toml::to_string(file).context("writing the scene as TOML")?;
+        let path = self.dir.join("scene.toml");
+        match std::fs::read_to_string(&path) {
+            Ok(old) if old != text => bail!(
+                "{} holds a different scene than the grid now gives (the grid changed?); \
+                 remove the work directory or write to another --out",
+                path.display()
+            ),
+            Ok(_) => Ok(()),
+            Err(_) => Ok(sim::checkpoint::write_atomic(&path, text.as_bytes())?),
+        }
+    }
+
+    /// The status the files record.
+    pub fn status(&self) -> anyhow::Result<SceneStatus> {
+        let summary = self.dir.join("summary.json");
+        if self.dir.join("profile.csv").exists() && summary.exists() {
+            let bytes = std::fs::read(&summary).with_context(|| format!("reading {}", summary.display()))?;
+            let value = serde_json::from_slice(&bytes).with_context(|| format!("reading {}", summary.display()))?;
+            return Ok(SceneStatus::Done(value));
+        }
+        match std::fs::read_to_string(self.dir.join("failed.txt")) {
+            Ok(reason) => Ok(SceneStatus::Failed(reason.trim().to_string())),
+            Err(_) => Ok(SceneStatus::Pending),
+        }
+    }
+
+    /// The checkpoint file.
+    pub fn checkpoint(&self) -> PathBuf {
+        self.dir.join("checkpoint.json")
+    }
+
+    /// Records a failure (its reason) and drops the checkpoint.
+    pub fn record_failure(&self, reason: &str) -> anyhow::Result<()> {
+        sim::checkpoint::write_atomic(&self.dir.join("failed.txt"), format!("{reason}\n").as_bytes())?;
+        std::fs::remove_file(self.checkpoint()).ok();
+        Ok(())
+    }
+
+    /// Forgets a recorded failure so the scene runs again.
+    pub fn clear_failure(&self) {
+        std::fs::remove_file(self.dir.join("failed.txt")).ok();
+    }
+
+    /// The finished scene's profile table.
+    pub fn profile_csv(&self) -> PathBuf {
+        self.dir.join("profile.csv")
+    }
+}

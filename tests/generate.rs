@@ -1,0 +1,183 @@
+//! End-to-end tests of `suspflow generate` and `suspflow merge` on grids of tiny scenes:
+//! resume after a kill or Ctrl-C gives the same dataset, a failing scene is isolated, shards
+//! merged equal the whole grid, and corrupt inputs to merge are refused naming the line.
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn suspflow(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_suspflow")).args(args).current_dir(root()).output().expect("runs suspflow")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("suspflow-gen-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn generate(grid: &str, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec!["generate", grid, "--out", out.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    suspflow(&args)
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The dataset of the tiny grid run once without interruption.
+fn whole_tiny() -> &'static String {
+    static WHOLE: OnceLock<String> = OnceLock::new();
+    WHOLE.get_or_init(|| {
+        let out = temp_dir("whole").join("tiny.csv");
+        let o = generate("tests/grids/tiny.toml", &out, &[]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read_to_string(out).unwrap()
+    })
+}
+
+#[test]
+fn tiny_grid_gives_one_row_per_bin_per_scene_with_provenance() {
+    let text = whole_tiny();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    for col in ["scene_id", "profile", "L_y", "phi", "seed", "steady_strain", "momentum_residual", "code_version",
+                "phi_loc", "phi_loc_se", "mu", "mu_se", "Theta", "Delta_v"] {
+        assert!(header.contains(&col), "dataset lacks `{col}`");
+    }
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 4 * 6, "4 scenes x 6 bins");
+    let ids: Vec<&str> = rows.iter().map(|r| r.split(',').next().unwrap()).collect();
+    assert_eq!(ids[0], "tiny_000");
+    assert_eq!(ids[23], "tiny_003");
+    assert!(ids.windows(2).all(|w| w[0] <= w[1]), "scenes in grid order");
+    // Scene 2 is phi = 0.5 with seed 3 (the last key of [vary], seed, varies fastest).
+    let row = rows[12];
+    assert!(row.starts_with("tiny_002,\"0.15*sin(2*pi*y/L)\",12,0.5,3,"), "{row}");
+}
+
+/// Starts generate, waits until a scene has written a checkpoint, then stops it with
+/// `signal`; the re-run must finish with exactly the uninterrupted dataset.
+fn interrupted_then_resumed(name: &str, signal: &str) {
+    let dir = temp_dir(name);
+    let out = dir.join("tiny.csv");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+        .args(["generate", "tests/grids/tiny.toml", "--out", out.to_str().unwrap()])
+        .current_dir(root()).stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
+    let work = dir.join("tiny.csv.work");
+    let started = Instant::now();
+    let has_checkpoint = || std::fs::read_dir(&work).into_iter().flatten().flatten()
+        .any(|e| e.path().join("checkpoint.json").exists());
+    while !has_checkpoint() {
+        assert!(started.elapsed() < Duration::from_secs(60), "no checkpoint written");
+        assert!(child.try_wait().unwrap().is_none(), "finished before any checkpoint");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    Command::new("kill").args([signal, &child.id().to_string()]).status().unwrap();
+    let status = child.wait().unwrap();
+    assert!(!status.success(), "an interrupted generate must not report success");
+    let partial = std::fs::read_to_string(&out).unwrap();
+    assert!(partial.lines().count() < whole_tiny().lines().count(), "the stop came too late to test resuming");
+    let o = generate("tests/grids/tiny.toml", &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("(resuming)"), "a scene must resume from its checkpoint:\n{}", stderr(&o));
+    assert_eq!(&std::fs::read_to_string(&out).unwrap(), whole_tiny(), "resumed dataset differs");
+}
+
+#[test]
+fn resume_after_kill_gives_the_identical_dataset() {
+    interrupted_then_resumed("kill", "-KILL");
+}
+
+#[test]
+fn resume_after_ctrl_c_gives_the_identical_dataset() {
+    interrupted_then_resumed("int", "-INT");
+}
+
+#[test]
+fn a_failing_scene_is_recorded_and_does_not_stop_the_others() {
+    let dir = temp_dir("fails");
+    let out = dir.join("fails.csv");
+    let o = generate("tests/grids/one_fails.toml", &out, &[]);
+    assert!(!o.status.success(), "a failed scene must make the exit status non-zero");
+    let err = stderr(&o);
+    assert!(err.contains("fails_001") && err.contains("blow-up"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    let data = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(data.lines().count(), 1 + 6, "only the good scene's 6 bins");
+    assert!(data.lines().skip(1).all(|l| l.starts_with("fails_000,")));
+    let table = std::fs::read_to_string(dir.join("fails.scenes.csv")).unwrap();
+    let failed = table.lines().find(|l| l.starts_with("fails_001,")).unwrap();
+    assert!(failed.starts_with("fails_001,failed,\"blow-up"), "{failed}");
+    // A re-run does not retry it (the failure is deterministic) and keeps the dataset.
+    let again = generate("tests/grids/one_fails.toml", &out, &[]);
+    assert!(stderr(&again).contains("2 already finished or failed"), "{}", stderr(&again));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), data);
+}
+
+#[test]
+fn shards_merged_equal_the_whole_grid() {
+    let dir = temp_dir("shards");
+    let mut parts = Vec::new();
+    for i in 0..3 {
+        let out = dir.join(format!("part{i}.csv"));
+        let o = generate("tests/grids/tiny.toml", &out, &["--shard", &format!("{i}/3"), "--jobs", "1"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        parts.push(out);
+    }
+    // Merge in an order other than the grid's: the result is in grid order anyway.
+    let merged = dir.join("merged.csv");
+    let mut args = vec!["merge"];
+    args.extend(parts.iter().rev().map(|p| p.to_str().unwrap()));
+    args.extend(["--out", merged.to_str().unwrap()]);
+    let o = suspflow(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(&std::fs::read_to_string(&merged).unwrap(), whole_tiny());
+
+    // The same part twice overlaps.
+    let o = suspflow(&["merge", parts[0].to_str().unwrap(), parts[0].to_str().unwrap(), "--out", dir.join("x.csv").to_str().unwrap()]);
+    assert!(!o.status.success() && stderr(&o).contains("also in an earlier file"), "{}", stderr(&o));
+}
+
+#[test]
+fn merge_names_the_line_of_a_truncated_or_corrupt_part() {
+    let dir = temp_dir("corrupt");
+    let text = whole_tiny();
+    let truncated = dir.join("truncated.csv");
+    std::fs::write(&truncated, &text[..text.len() / 2]).unwrap();
+    let line = text[..text.len() / 2].lines().count();
+    let o = suspflow(&["merge", truncated.to_str().unwrap(), "--out", dir.join("a.csv").to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains(&format!("line {line}")) && stderr(&o).contains("truncated.csv"), "{}", stderr(&o));
+
+    let corrupt = dir.join("corrupt.csv");
+    std::fs::write(&corrupt, text.replacen(",1e0,", ",1e0x,", 1)).unwrap();
+    let o = suspflow(&["merge", corrupt.to_str().unwrap(), "--out", dir.join("b.csv").to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("line 2, column `y`"), "{}", stderr(&o));
+    assert!(!dir.join("b.csv").exists(), "nothing written on error");
+}
+
+#[test]
+fn bad_grids_are_refused_naming_the_problem() {
+    let dir = temp_dir("badgrid");
+    let cases = [
+        ("name = \"g\"\n[scene]\nbox = { l_x = 8.0, l_y = 12.0, l_z = 8.0 }\nfluid = { profile = \"0.1*sin(2*pi*y/L)\" }\n[vary]\n\"particles.phi\" = [0.5, 0.9]\n", "scene g_001: scene field `particles.phi`"),
+        ("name = \"g\"\n[scene]\nbox = { l_x = 8.0, l_y = 12.0, l_z = 8.0 }\nparticles = { phi = 0.5 }\nfluid = { profile = \"0.1*sin(2*pi*y/L)\" }\n[vary]\n\"particles.phy\" = [0.5]\n", "unknown field `phy`"),
+        ("name = \"g\"\n[vary]\nseed = 3\n", "vary.\"seed\" must be a non-empty list"),
+        ("name = \"g\"\n[vary]\nseed = [1]\n[[cases]]\nseed = 2\n", "both in [vary] and in a [[cases]]"),
+    ];
+    for (k, (text, expected)) in cases.iter().enumerate() {
+        let grid = dir.join(format!("g{k}.toml"));
+        std::fs::write(&grid, text).unwrap();
+        let o = generate(grid.to_str().unwrap(), &dir.join("x.csv"), &["--check"]);
+        assert!(!o.status.success(), "grid {k} accepted");
+        assert!(stderr(&o).contains(expected), "grid {k}: {}", stderr(&o));
+    }
+}

@@ -24,6 +24,9 @@ use std::time::Instant;
 
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
+/// Seconds between status lines of a running scene when no progress bar can be drawn.
+const STATUS_EVERY_S: u64 = 60;
+
 #[derive(clap::Args)]
 pub struct Args {
     /// Grid file (TOML, see README and `grids/`).
@@ -184,19 +187,25 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 /// Runs one scene into its work folder; a failure of the scene itself is recorded there,
 /// and only problems of the work directory are returned as errors.
-fn run_scene(gs: &GridScene, root: &Path, threads: usize, bar: &ProgressBar, log: &dyn Fn(String)) -> anyhow::Result<()> {
+fn run_scene(gs: &GridScene, root: &Path, threads: usize, bar: &ProgressBar, log: &(dyn Fn(String) + Sync)) -> anyhow::Result<()> {
     let work = SceneWork::new(root, &gs.id);
     let resuming = work.checkpoint().exists();
     log(format!("{} start{}: N = {}, L_y = {}, phi = {}, `{}`", gs.id, if resuming { " (resuming)" } else { "" },
         gs.scene.n_particles(), gs.scene.box_len[1], gs.scene.file.particles.phi, gs.scene.file.fluid.profile));
     let opts = RunOptions { checkpoint: Some(work.checkpoint()), resume: true, interrupt: Some(&INTERRUPTED) };
     let started = Instant::now();
+    let mut last_line = Instant::now();
     let outcome = crate::with_threads(threads, || {
         sim::run::run(&gs.scene, &opts, &mut |p, _| {
             let msg = match p.phase {
                 Phase::Equilibrating => format!("{}: equilibrating, strain {:.2} (budget {})", gs.id, p.strain, p.max_strain),
                 Phase::Averaging => format!("{}: averaging, snapshot {} / {}", gs.id, p.snapshots, p.snapshots_target),
             };
+            // Without a terminal (batch jobs, nohup) the bars are hidden: a status line a minute instead.
+            if bar.is_hidden() && last_line.elapsed().as_secs() >= STATUS_EVERY_S {
+                log(format!("{msg} ({:.0} s)", started.elapsed().as_secs_f64()));
+                last_line = Instant::now();
+            }
             bar.set_message(msg);
         })
     })?;

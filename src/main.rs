@@ -1,5 +1,6 @@
 //! `suspflow`: dense-suspension rheology under inhomogeneous flow.
 mod cmd_bench;
+mod cmd_compare;
 mod cmd_generate;
 mod cmd_merge;
 mod cmd_predict;
@@ -25,6 +26,8 @@ enum Command {
     Generate(cmd_generate::Args),
     /// Combine datasets of distinct scenes (e.g. the shards of a grid) into one.
     Merge(cmd_merge::Args),
+    /// Compare two binned profiles: squared z-scores and relative differences per observable.
+    Compare(cmd_compare::Args),
     /// Measure particle-steps per second of the force + integration loop.
     Bench(cmd_bench::Args),
     /// Train the surrogate mappings on a dataset.
@@ -49,6 +52,7 @@ fn main() -> anyhow::Result<()> {
         Command::Simulate(args) => cmd_simulate::run(args),
         Command::Generate(args) => cmd_generate::run(args),
         Command::Merge(args) => cmd_merge::run(args),
+        Command::Compare(args) => cmd_compare::run(args),
         Command::Bench(args) => cmd_bench::run(args),
         Command::Train(args) => cmd_train::run(args),
         Command::Predict(args) => cmd_predict::run(args),

@@ -7,7 +7,8 @@
 //! ([`ModelMeta`]) and is saved as `<mapping>.json` (XGBoost JSON, loadable from Python) and
 //! `<mapping>.meta.json`. Accuracy is the relative L2 error on scaled outputs
 //! ([`relative_l2_error`], eq 6.6), cross-validated by whole simulations
-//! ([`grouped_k_fold`]) and compared with linear [`baselines`].
+//! ([`grouped_k_fold`]), which also chooses the hyper-parameters ([`Tuning`]), and compared
+//! with linear [`baselines`]; [`Validation`] measures a model on unseen flow profiles.
 //!
 //! The XGBoost library is the pinned `xgboost-cpu` wheel's `libxgboost.so`, provided by the
 //! workspace's `vendor/xgboost_lib-sys` crate; see its build script.
@@ -24,6 +25,8 @@ pub mod metrics;
 pub mod model;
 pub mod samples;
 pub mod scaling;
+pub mod tuning;
+pub mod validation;
 
 pub use baselines::{evaluate_baseline, Baseline, BaselineScore};
 pub use booster::{xgboost_version, Booster, HyperParameters, MultiStrategy};
@@ -38,3 +41,7 @@ pub use metrics::relative_l2_error;
 pub use model::{ModelMeta, TrainedModel, TrainingData};
 pub use samples::Samples;
 pub use scaling::{MinMaxScaling, Range};
+pub use tuning::{standard_grid, Tuning};
+pub use validation::{
+    profile_names, seeds_validation_error, ProfileError, Validation, ALL_PROFILES, PROFILE_COLUMN,
+};

@@ -41,6 +41,9 @@ pub struct TrainingData {
     pub fnv1a_64: String,
     /// Number of rows used for training.
     pub rows: usize,
+    /// Rows of the source left out because a cell of the mapping's columns was empty.
+    #[serde(default)]
+    pub skipped_rows: usize,
 }
 
 /// A booster with its sidecar.
@@ -77,6 +80,7 @@ impl TrainedModel {
                 source: samples.source_name.clone(),
                 fnv1a_64: format!("{:016x}", samples.source_fingerprint),
                 rows: samples.n_rows(),
+                skipped_rows: samples.skipped_rows,
             },
             xgboost_version: xgboost_version(),
         };

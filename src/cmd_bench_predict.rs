@@ -1,6 +1,6 @@
 //! `suspflow bench-predict --models DIR`: wall time of predicting one profile end to end
-//! inside the process, as a user of `predict` pays it: load the model (XGBoost JSON and
-//! sidecar), read the input CSV file, predict every row. The target is a 50-bin profile in
+//! inside the process, as `predict` does it: load the model (sidecar and the trees of the
+//! XGBoost JSON, `surrogate::Predictor`), read the input CSV file, predict every row. The target is a 50-bin profile in
 //! under 10 ms. Each mapping is timed `--repeat` times; the first run (cold caches) is
 //! reported apart from the median and minimum.
 use anyhow::Context;
@@ -8,7 +8,7 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-use surrogate::{Dataset, Mapping, TrainedModel};
+use surrogate::{Dataset, Mapping, Predictor};
 
 /// The end-to-end target per profile, in milliseconds.
 const TARGET_MS: f64 = 10.0;
@@ -97,7 +97,7 @@ fn time_mapping(mapping: &Mapping, models: &Path, input: &Path, repeat: usize) -
     let mut rows = 0;
     for _ in 0..repeat {
         let started = Instant::now();
-        let model = TrainedModel::load(models, mapping.name)?;
+        let model = Predictor::load(models, mapping.name)?;
         let loaded = Instant::now();
         let data = Dataset::read_csv(input)?;
         let read = Instant::now();

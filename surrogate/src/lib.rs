@@ -6,8 +6,8 @@
 //! (`reg:squarederror`, eq 6.5). A [`TrainedModel`] is that booster plus a sidecar
 //! ([`ModelMeta`]) and is saved as `<mapping>.json` (XGBoost JSON, loadable from Python) and
 //! `<mapping>.meta.json`; a [`Predictor`] reads both back and predicts without the XGBoost
-//! library, walking the trees itself ([`Forest`]). Accuracy is the relative L2 error on scaled outputs
-//! ([`relative_l2_error`], eq 6.6), cross-validated by whole simulations
+//! library, walking the trees itself ([`Forest`]). Accuracy is the relative L2 error on
+//! scaled outputs ([`relative_l2_error`], eq 6.6), cross-validated by whole simulations
 //! ([`grouped_k_fold`]), which also chooses the hyper-parameters ([`Tuning`]), and compared
 //! with linear [`baselines`]; [`Validation`] measures a model on unseen flow profiles.
 //!

@@ -1,10 +1,12 @@
 //! `suspflow predict --model DIR/<mapping> --input FILE.csv`: a trained mapping's
-//! predictions for every row of a table of its feature columns.
+//! predictions for every row of a table of its feature columns. The trees are evaluated
+//! by `surrogate::Predictor`, which does not load the XGBoost library's model: a profile
+//! takes milliseconds end to end (`suspflow bench-predict`).
 use anyhow::Context;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
-use surrogate::{Dataset, TrainedModel};
+use surrogate::{Dataset, Predictor};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -28,7 +30,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .map(|n| n.trim_end_matches(".meta.json").trim_end_matches(".json"))
         .with_context(|| format!("--model {}: expected DIR/<mapping>", args.model.display()))?;
     let dir = args.model.parent().map(PathBuf::from).unwrap_or_default();
-    let model = TrainedModel::load(&dir, name)?;
+    let model = Predictor::load(&dir, name)?;
     let dataset = Dataset::read_csv(&args.input)?;
     let predicted = model.predict(&dataset)?;
     let elapsed = started.elapsed();

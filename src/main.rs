@@ -1,12 +1,16 @@
 //! `suspflow`: dense-suspension rheology under inhomogeneous flow.
 mod cmd_bench;
+mod cmd_bench_predict;
 mod cmd_compare;
 mod cmd_generate;
 mod cmd_merge;
 mod cmd_predict;
 mod cmd_simulate;
 mod cmd_train;
+mod cmd_validate;
 mod dataset_file;
+mod plot;
+mod report;
 mod scene_work;
 
 use clap::{Parser, Subcommand};
@@ -34,6 +38,10 @@ enum Command {
     Train(cmd_train::Args),
     /// Predict a profile with a trained mapping.
     Predict(cmd_predict::Args),
+    /// Measure the trained mappings on unseen flow profiles; write the figures.
+    Validate(cmd_validate::Args),
+    /// Time loading a model, reading a 50-bin profile and predicting it.
+    BenchPredict(cmd_bench_predict::Args),
 }
 
 /// Runs `f` on a pool of `threads` threads (0 = all cores).
@@ -56,5 +64,7 @@ fn main() -> anyhow::Result<()> {
         Command::Bench(args) => cmd_bench::run(args),
         Command::Train(args) => cmd_train::run(args),
         Command::Predict(args) => cmd_predict::run(args),
+        Command::Validate(args) => cmd_validate::run(args),
+        Command::BenchPredict(args) => cmd_bench_predict::run(args),
     }
 }

@@ -1,74 +1,709 @@
-//! End-to-end `train` and `predict` on a synthetic table with a known smooth law.
+//! End-to-end `train`, `predict`, `validate` and `bench-predict` on synthetic tables with the
+//! simulator's column schema and known smooth laws.
+use serde_json::Value;
+use std::collections::BTreeSet;
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn suspflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_suspflow")).args(args).output().expect("runs suspflow")
+    Command::new(env!("CARGO_BIN_EXE_suspflow"))
+        .args(args)
+        .output()
+        .expect("runs suspflow")
 }
 
-/// 16 fake simulations of 40 bins: phi_loc, Theta, Delta_v and mu smooth in (J, phi).
-fn synthetic_table(dir: &std::path::Path) -> PathBuf {
-    let mut csv = String::from("scene_id,phi,J,phi_loc,Theta,Delta_v,mu\n");
-    for s in 0..16 {
-        let phi = 0.50 + 0.02 * (s % 4) as f64;
-        for b in 0..40 {
-            let j = 1e-3 * (1.0 + 0.1 * ((b * 7 + s * 3) % 97) as f64);
-            let phi_loc = phi + 0.05 - 0.8 * j.sqrt() * 0.3;
-            let theta = 0.02 + 2.0 * j;
-            let dv = 0.3 + 5.0 * j;
-            let mu = 0.3 + 0.5 * j.powf(0.4) + 0.2 * (phi - 0.5);
-            let _ = writeln!(csv, "s{s},{phi},{j},{phi_loc},{theta},{dv},{mu}");
+/// Runs `suspflow args`, failing the test with its standard error if it fails.
+fn suspflow_ok(args: &[&str]) -> Output {
+    let out = suspflow(args);
+    assert!(
+        out.status.success(),
+        "suspflow {args:?} failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// Runs `suspflow args`, expecting a clean failure; returns its standard error.
+fn suspflow_err(args: &[&str]) -> String {
+    let out = suspflow(args);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "suspflow {args:?} should fail");
+    assert!(!err.contains("panicked"), "suspflow {args:?} panicked:\n{err}");
+    err
+}
+
+/// A fresh directory for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("suspflow-surrogate-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// The simulator's `profile.csv` columns (SPEC section 8), in its order.
+const HEADER: &str = "scene_id,profile,L_y,phi,seed,y,u_inf,u,u_se,gdot,gdot_se,sigma_xy,sigma_xy_se,P,P_se,\
+phi_loc,phi_loc_se,J,J_se,mu,mu_se,Theta,Theta_se,Delta_v,Delta_v_se,f_x,f_x_se,count,count_se";
+
+/// One simulation: its id, profile expression, u_inf(y) for L_y, L_y, phi, number of bins.
+struct Scene {
+    id: String,
+    profile: &'static str,
+    u_inf: fn(f64, f64) -> f64,
+    l_y: f64,
+    phi: f64,
+    bins: usize,
+}
+
+const SIN: &str = "0.1*sin(2*pi*y/L)";
+fn sin_profile(y: f64, l: f64) -> f64 {
+    0.1 * (2.0 * std::f64::consts::PI * y / l).sin()
+}
+const SIN_COS: &str = "0.1*sin(2*pi*y/L)+0.2*cos(2*pi*y/L)";
+fn sin_cos_profile(y: f64, l: f64) -> f64 {
+    let x = 2.0 * std::f64::consts::PI * y / l;
+    0.1 * x.sin() + 0.2 * x.cos()
+}
+const SIN3: &str = "0.1*sin(2*pi*y/L)^3";
+fn sin3_profile(y: f64, l: f64) -> f64 {
+    0.1 * (2.0 * std::f64::consts::PI * y / l).sin().powi(3)
+}
+
+/// The training grid of the seeds, scaled down: `n` simulations of the sine profile cycling
+/// through phi in {0.50, 0.52, 0.54, 0.56} and L_y in {50, 100}.
+fn training_scenes(n: usize, bins: usize) -> Vec<Scene> {
+    (0..n)
+        .map(|k| Scene {
+            id: format!("train_{k}"),
+            profile: SIN,
+            u_inf: sin_profile,
+            l_y: [50.0, 100.0][(k / 4) % 2],
+            phi: [0.50, 0.52, 0.54, 0.56][k % 4],
+            bins,
+        })
+        .collect()
+}
+
+/// The two validation profiles of SPEC section 8.
+fn validation_scenes(bins: usize) -> Vec<Scene> {
+    vec![
+        Scene {
+            id: "val_a".into(),
+            profile: SIN_COS,
+            u_inf: sin_cos_profile,
+            l_y: 80.0,
+            phi: 0.54,
+            bins,
+        },
+        Scene {
+            id: "val_b".into(),
+            profile: SIN3,
+            u_inf: sin3_profile,
+            l_y: 100.0,
+            phi: 0.54,
+            bins,
+        },
+    ]
+}
+
+/// CSV text of `scenes` with the simulator's schema. Local values follow smooth laws of the
+/// local shear `|du_inf/dy|` and phi: `J` and `Theta` grow with the shear, `phi_loc =
+/// phi + 0.04 (1 + log10 Theta)` falls, `mu = 0.3 + 0.5 J^0.4 + 0.3 (phi_loc - 0.5) + 0.1 phi`,
+/// `Delta_v = 0.05 + 0.3 Theta`. In the data rows (from 1) listed in `no_pressure`, `J`, `mu`
+/// and `Theta` are empty, as the simulator writes them where `P <= 0`; in those in
+/// `no_theta`, `Theta` alone.
+fn table(scenes: &[Scene], no_pressure: &[usize], no_theta: &[usize]) -> String {
+    let mut csv = format!("{HEADER}\n");
+    let mut row = 0;
+    for (k, scene) in scenes.iter().enumerate() {
+        let width = scene.l_y / scene.bins as f64;
+        for bin in 0..scene.bins {
+            row += 1;
+            let y = (bin as f64 + 0.5) * width;
+            let u_inf = (scene.u_inf)(y, scene.l_y);
+            let slope = ((scene.u_inf)(y + 1e-3, scene.l_y) - (scene.u_inf)(y - 1e-3, scene.l_y)) / 2e-3;
+            let shear = slope.abs() * scene.l_y / 0.6; // about 0..1 over these profiles
+            let wobble = 0.05 * ((7 * bin + 3 * k) % 11) as f64 / 11.0;
+            let j = 1e-3 + 0.05 * (shear + wobble);
+            let theta = 0.01 + 0.3 * (shear + wobble);
+            let phi_loc = scene.phi + 0.04 * (1.0 + theta.log10());
+            let mu = 0.3 + 0.5 * j.powf(0.4) + 0.3 * (phi_loc - 0.5) + 0.1 * scene.phi;
+            let delta_v = 0.05 + 0.3 * theta;
+            let pressure = 0.2 + 0.1 * wobble;
+            let u = u_inf * (1.0 - delta_v);
+            let cell = |v: f64, hidden: bool| if hidden { String::new() } else { v.to_string() };
+            let (p0, t0) = (
+                no_pressure.contains(&row),
+                no_pressure.contains(&row) || no_theta.contains(&row),
+            );
+            let values = [
+                (u, false),
+                (slope, false),
+                (mu * pressure, false),
+                (pressure, false),
+                (phi_loc, false),
+                (j, p0),
+                (mu, p0),
+                (theta, t0),
+                (delta_v, false),
+                (0.01 * u, false),
+                (40.0, false),
+            ];
+            let cells: Vec<String> = values
+                .iter()
+                .flat_map(|&(v, hidden)| [cell(v, hidden), cell(0.02 * v.abs(), hidden)])
+                .collect();
+            writeln!(
+                csv,
+                "{},\"{}\",{},{},1,{y},{u_inf},{}",
+                scene.id,
+                scene.profile,
+                scene.l_y,
+                scene.phi,
+                cells.join(",")
+            )
+            .unwrap();
         }
     }
-    let path = dir.join("train.csv");
-    std::fs::write(&path, csv).unwrap();
+    csv
+}
+
+/// `csv` (made by [`table`]: no comma inside a quoted field) with the cell of `column` in data
+/// row `row` (from 1) replaced by `value`.
+fn with_cell(csv: &str, column: &str, row: usize, value: &str) -> String {
+    let index = HEADER.split(',').position(|c| c == column).unwrap();
+    let mut lines: Vec<String> = csv.lines().map(str::to_owned).collect();
+    let mut cells: Vec<&str> = lines[row].split(',').collect();
+    cells[index] = value;
+    lines[row] = cells.join(",");
+    lines.join("\n") + "\n"
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
     path
+}
+
+fn read_json(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Relative L2 error (eq 6.6) of `predicted` against `truth`, both scaled with `(min, max)`.
+fn rel_l2(truth: &[f64], predicted: &[f64], (min, max): (f64, f64)) -> f64 {
+    let scale = |v: f64| (v - min) / (max - min);
+    let residual: f64 = truth
+        .iter()
+        .zip(predicted)
+        .map(|(&t, &p)| (scale(t) - scale(p)).powi(2))
+        .sum();
+    let norm: f64 = truth.iter().map(|&t| scale(t).powi(2)).sum();
+    (residual / norm).sqrt()
+}
+
+/// The cells of column `name` of a CSV file without quoted commas (a `predict` output).
+fn numeric_column(text: &str, name: &str) -> Vec<f64> {
+    let mut lines = text.lines();
+    let index = lines.next().unwrap().split(',').position(|c| c == name).unwrap();
+    lines
+        .map(|l| l.split(',').nth(index).unwrap().parse().unwrap())
+        .collect()
+}
+
+/// Trains untuned models of the given mappings (all when empty) on `data` into `models`.
+fn train_untuned(data: &Path, models: &Path, mappings: &[&str]) {
+    let mut args = vec!["train", "--data", s(data), "--out", s(models), "--no-tune"];
+    for m in mappings {
+        args.extend(["--mapping", m]);
+    }
+    suspflow_ok(&args);
 }
 
 #[test]
 fn train_then_predict_reproduces_a_smooth_law() {
-    let dir = std::env::temp_dir().join(format!("suspflow-train-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let data = synthetic_table(&dir);
+    let dir = scratch("smooth");
+    let data = write(&dir, "train.csv", &table(&training_scenes(16, 40), &[], &[]));
     let models = dir.join("models");
-    let out = suspflow(&["train", "--data", data.to_str().unwrap(), "--out", models.to_str().unwrap()]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    train_untuned(&data, &models, &[]);
     for m in ["mu", "theta", "dv"] {
         assert!(models.join(format!("{m}.json")).exists() && models.join(format!("{m}.meta.json")).exists());
     }
     let pred = dir.join("pred.csv");
-    let out = suspflow(&["predict", "--model", models.join("mu").to_str().unwrap(), "--input", data.to_str().unwrap(),
-                         "--out", pred.to_str().unwrap()]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    suspflow_ok(&[
+        "predict",
+        "--model",
+        s(&models.join("mu")),
+        "--input",
+        s(&data),
+        "--out",
+        s(&pred),
+    ]);
     let text = std::fs::read_to_string(&pred).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(lines.next().unwrap(), "J,phi_loc,phi,mu_pred");
-    let input = std::fs::read_to_string(&data).unwrap();
-    let truth: Vec<f64> = input.lines().skip(1).map(|l| l.rsplit(',').next().unwrap().parse().unwrap()).collect();
-    let got: Vec<f64> = lines.map(|l| l.rsplit(',').next().unwrap().parse().unwrap()).collect();
+    assert_eq!(text.lines().next().unwrap(), "J,phi_loc,phi,mu_pred");
+    let got = numeric_column(&text, "mu_pred");
+    let truth: Vec<f64> = std::fs::read_to_string(&data)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| {
+            l.split(',')
+                .nth(HEADER.split(',').position(|c| c == "mu").unwrap())
+                .unwrap()
+                .parse()
+                .unwrap()
+        })
+        .collect();
     assert_eq!(got.len(), truth.len());
     let err = (got.iter().zip(&truth).map(|(a, b)| (a - b).powi(2)).sum::<f64>()
-        / truth.iter().map(|b| b * b).sum::<f64>()).sqrt();
+        / truth.iter().map(|b| b * b).sum::<f64>())
+    .sqrt();
     assert!(err < 0.01, "in-sample relative error {err}");
     std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
+fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
+    let dir = scratch("validate-json");
+    let train = write(&dir, "train.csv", &table(&training_scenes(8, 20), &[], &[]));
+    let validate = write(&dir, "validate.csv", &table(&validation_scenes(25), &[], &[]));
+    let models = dir.join("models");
+    train_untuned(&train, &models, &[]);
+    let out = suspflow_ok(&["validate", "--models", s(&models), "--data", s(&validate), "--json"]);
+    let records: Vec<Value> = serde_json::from_slice(&out.stdout).expect("stdout is only JSON");
+    let keys: BTreeSet<(String, String, String)> = records
+        .iter()
+        .map(|r| {
+            let fields: BTreeSet<&str> = r.as_object().unwrap().keys().map(String::as_str).collect();
+            assert_eq!(
+                fields,
+                BTreeSet::from(["mapping", "output", "profile", "rel_l2"]),
+                "{r}"
+            );
+            let e = r["rel_l2"].as_f64().unwrap();
+            assert!(e.is_finite() && e >= 0.0, "{r}");
+            let text = |k: &str| r[k].as_str().unwrap().to_owned();
+            (text("mapping"), text("output"), text("profile"))
+        })
+        .collect();
+    let mut expected = BTreeSet::new();
+    for (m, o) in [
+        ("mu", "mu"),
+        ("theta", "phi_loc"),
+        ("theta", "mu"),
+        ("dv", "phi_loc"),
+        ("dv", "mu"),
+    ] {
+        for p in [SIN_COS, SIN3, "all"] {
+            expected.insert((m.to_owned(), o.to_owned(), p.to_owned()));
+        }
+    }
+    assert_eq!(keys, expected);
+    assert_eq!(records.len(), expected.len());
+
+    // The same errors from `predict` and the sidecar's training ranges.
+    let lookup = |m: &str, o: &str, p: &str| {
+        records
+            .iter()
+            .find(|r| r["mapping"] == m && r["output"] == o && r["profile"] == p)
+            .unwrap()["rel_l2"]
+            .as_f64()
+            .unwrap()
+    };
+    let validation_text = std::fs::read_to_string(&validate).unwrap();
+    let truth_of = |o: &str| -> Vec<f64> {
+        let index = HEADER.split(',').position(|c| c == o).unwrap();
+        // The quoted profile holds no comma, so splitting on commas is exact here.
+        validation_text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(index).unwrap().parse().unwrap())
+            .collect()
+    };
+    let is_a: Vec<bool> = validation_text.lines().skip(1).map(|l| l.contains(SIN_COS)).collect();
+    for m in ["mu", "theta", "dv"] {
+        let pred = dir.join(format!("{m}.pred.csv"));
+        suspflow_ok(&[
+            "predict",
+            "--model",
+            s(&models.join(m)),
+            "--input",
+            s(&validate),
+            "--out",
+            s(&pred),
+        ]);
+        let predicted_text = std::fs::read_to_string(&pred).unwrap();
+        let meta = read_json(&models.join(format!("{m}.meta.json")));
+        for (j, o) in meta["outputs"].as_array().unwrap().iter().enumerate() {
+            let o = o.as_str().unwrap();
+            let range = &meta["scaling"]["ranges"][j];
+            let training_range = (range["min"].as_f64().unwrap(), range["max"].as_f64().unwrap());
+            let (truth, predicted) = (truth_of(o), numeric_column(&predicted_text, &format!("{o}_pred")));
+            let part = |keep: bool| -> (Vec<f64>, Vec<f64>) {
+                let pick = |v: &[f64]| {
+                    v.iter()
+                        .zip(&is_a)
+                        .filter(|(_, &a)| a == keep)
+                        .map(|(&x, _)| x)
+                        .collect()
+                };
+                (pick(&truth), pick(&predicted))
+            };
+            let ((ta, pa), (tb, pb)) = (part(true), part(false));
+            for (profile, t, p) in [(SIN_COS, &ta, &pa), (SIN3, &tb, &pb), ("all", &truth, &predicted)] {
+                let expected = rel_l2(t, p, training_range);
+                let got = lookup(m, o, profile);
+                assert!(
+                    (got - expected).abs() <= 1e-9 * expected.max(1e-12),
+                    "{m} {o} {profile}: {got} vs {expected}"
+                );
+            }
+            // The validation set's own ranges would give another number.
+            let (lo, hi) = truth
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+            let own = rel_l2(&truth, &predicted, (lo, hi));
+            assert!(
+                (own - lookup(m, o, "all")).abs() > 1e-6 * own,
+                "{m} {o}: ranges not told apart"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn validate_prints_every_section_and_draws_one_figure_per_profile() {
+    let dir = scratch("validate-text");
+    let train = write(&dir, "train.csv", &table(&training_scenes(8, 20), &[], &[]));
+    let validate = write(&dir, "validate.csv", &table(&validation_scenes(25), &[], &[]));
+    let models = dir.join("models");
+    train_untuned(&train, &models, &[]);
+    let out = suspflow_ok(&["validate", "--models", s(&models), "--data", s(&validate)]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    for section in [
+        "mapping mu:",
+        "mapping theta:",
+        "mapping dv:",
+        "seeds (thesis, all)",
+        "xgboost, as trained",
+        "linear (linfa)",
+        "log-linear (linfa",
+        "no tuning record",
+        "theta vs dv",
+        "feature importance",
+        SIN_COS,
+        SIN3,
+    ] {
+        assert!(text.contains(section), "no `{section}` in:\n{text}");
+    }
+    // Importance shares of each model add up to 100 %.
+    let importance = text.split("feature importance").nth(1).unwrap();
+    for line in importance
+        .lines()
+        .skip(1)
+        .filter(|l| l.trim().starts_with(['m', 't', 'd']))
+    {
+        let total: f64 = line
+            .split(", ")
+            .map(|p| {
+                p.trim_end_matches(" %")
+                    .rsplit(' ')
+                    .next()
+                    .unwrap()
+                    .parse::<f64>()
+                    .unwrap()
+            })
+            .sum();
+        assert!((total - 100.0).abs() < 0.2, "{line}");
+    }
+    let figures = models.join("validation_plots");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&figures)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 2, "{files:?}");
+    for (file, profile) in files.iter().zip([SIN_COS, SIN3]) {
+        assert_eq!(file.extension().unwrap(), "svg");
+        let svg = std::fs::read_to_string(file).unwrap();
+        assert!(svg.starts_with("<svg"), "{}", file.display());
+        for label in [
+            "simulated",
+            "mapping mu",
+            "mapping theta",
+            "mapping dv",
+            "phi_loc",
+            profile,
+        ] {
+            assert!(svg.contains(label), "{} lacks `{label}`", file.display());
+        }
+    }
+    // --plots puts them elsewhere.
+    let elsewhere = dir.join("figures");
+    suspflow_ok(&[
+        "validate",
+        "--models",
+        s(&models),
+        "--data",
+        s(&validate),
+        "--plots",
+        s(&elsewhere),
+        "--mapping",
+        "mu",
+    ]);
+    assert_eq!(std::fs::read_dir(&elsewhere).unwrap().count(), 2);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn train_chooses_hyper_parameters_by_leaving_one_simulation_out() {
+    let dir = scratch("tune");
+    let train = write(&dir, "train.csv", &table(&training_scenes(5, 10), &[], &[]));
+    let models = dir.join("models");
+    let out = suspflow_ok(&["train", "--data", s(&train), "--out", s(&models), "--mapping", "theta"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("over 5 simulations") && stdout.contains("XGBoost defaults"),
+        "{stdout}"
+    );
+    let record = read_json(&models.join("theta.tuning.json"));
+    assert_eq!(record["folds"], 5);
+    let grid = &record["grid"];
+    let size: usize = ["n_estimators", "max_depth", "learning_rate", "min_child_weight"]
+        .iter()
+        .map(|k| grid[k].as_array().unwrap().len().max(1))
+        .product();
+    let scores = record["scores"].as_array().unwrap();
+    assert_eq!(scores.len(), size);
+    let means: Vec<f64> = scores.iter().map(|s| s["mean"].as_f64().unwrap()).collect();
+    let best = means.iter().copied().fold(f64::INFINITY, f64::min);
+    assert_eq!(record["chosen"]["mean"].as_f64().unwrap(), best);
+    assert!(
+        means.iter().any(|&m| m > best),
+        "every setting scored the same: {means:?}"
+    );
+    for s in scores.iter().chain([&record["chosen"], &record["untuned"]]) {
+        assert_eq!(s["per_output"].as_array().unwrap().len(), 2);
+    }
+    let untuned = &record["untuned"]["params"];
+    assert_eq!(
+        (untuned["n_estimators"].as_u64(), untuned["max_depth"].as_u64()),
+        (Some(100), Some(6))
+    );
+    assert_eq!(untuned["learning_rate"].as_f64(), Some(0.3));
+    let meta = read_json(&models.join("theta.meta.json"));
+    assert_eq!(meta["hyper_parameters"], record["chosen"]["params"]);
+
+    // Untuned training drops the record that would no longer describe the model.
+    train_untuned(&train, &models, &["theta"]);
+    assert!(!models.join("theta.tuning.json").exists());
+    assert_eq!(read_json(&models.join("theta.meta.json"))["hyper_parameters"], *untuned);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn empty_cells_are_skipped_and_counted_per_mapping() {
+    let dir = scratch("holes");
+    let scenes = training_scenes(6, 12);
+    let rows = 6 * 12;
+    let (no_pressure, no_theta) = ([3, 17, 40], [5, 6, 50, 71]);
+    let train = write(&dir, "train.csv", &table(&scenes, &no_pressure, &no_theta));
+    let models = dir.join("models");
+    let out = suspflow_ok(&["train", "--data", s(&train), "--out", s(&models), "--no-tune"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    for (mapping, skipped) in [("mu", 3), ("theta", 7), ("dv", 3)] {
+        assert!(
+            err.contains(&format!("{mapping}: {skipped} of {rows} rows")),
+            "{mapping}: {err}"
+        );
+        let data = &read_json(&models.join(format!("{mapping}.meta.json")))["training_data"];
+        assert_eq!(
+            (data["rows"].as_u64(), data["skipped_rows"].as_u64()),
+            (Some(rows - skipped), Some(skipped))
+        );
+    }
+    let validate = write(&dir, "validate.csv", &table(&validation_scenes(20), &[2, 30], &[]));
+    let out = suspflow_ok(&["validate", "--models", s(&models), "--data", s(&validate), "--json"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("theta: 2 of 40 rows"));
+    let records: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(records.len(), 15);
+    // A NaN written out is not an undefined value: it is refused, naming the row.
+    let nan = write(
+        &dir,
+        "nan.csv",
+        &with_cell(&table(&scenes, &[], &[]), "Theta", 9, "NaN"),
+    );
+    let err = suspflow_err(&[
+        "train",
+        "--data",
+        s(&nan),
+        "--out",
+        s(&models),
+        "--no-tune",
+        "--mapping",
+        "theta",
+    ]);
+    assert!(
+        err.contains("data row 9, column `Theta`") && err.contains("NaN is not a finite number"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn bad_surrogate_inputs_give_clear_errors() {
-    let dir = std::env::temp_dir().join(format!("suspflow-badtrain-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let data = synthetic_table(&dir);
-    let out = suspflow(&["train", "--data", data.to_str().unwrap(), "--out", dir.join("m").to_str().unwrap(), "--mapping", "nope"]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("nope") && err.contains("theta"), "{err}");
-    let out = suspflow(&["train", "--data", data.to_str().unwrap(), "--out", dir.join("m").to_str().unwrap(), "--mapping", "mu"]);
-    assert!(out.status.success());
-    let missing = dir.join("missing.csv");
-    std::fs::write(&missing, "scene_id,phi,J\ns0,0.5,0.001\n").unwrap();
-    let out = suspflow(&["predict", "--model", dir.join("m/mu").to_str().unwrap(), "--input", missing.to_str().unwrap()]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("phi_loc"), "{err}");
-    assert!(!err.contains("panicked"));
+    let dir = scratch("bad");
+    let train = write(&dir, "train.csv", &table(&training_scenes(4, 10), &[], &[]));
+    let models = dir.join("models");
+    let err = suspflow_err(&["train", "--data", s(&train), "--out", s(&models), "--mapping", "nope"]);
+    assert!(err.contains("unknown mapping `nope`") && err.contains("theta"), "{err}");
+    train_untuned(&train, &models, &[]);
+    let good = table(&validation_scenes(10), &[], &[]);
+    let validate = |name: &str, text: &str| {
+        let path = write(&dir, name, text);
+        suspflow_err(&[
+            "validate",
+            "--models",
+            s(&models),
+            "--data",
+            s(&path),
+            "--plots",
+            s(&dir.join("p")),
+        ])
+    };
+    let err = validate("renamed.csv", &good.replacen("Theta,", "Temperature,", 1));
+    assert!(
+        err.contains("no column `Theta`") && err.contains("Temperature"),
+        "{err}"
+    );
+    let err = validate("nan.csv", &with_cell(&good, "J", 4, "nan"));
+    assert!(
+        err.contains("data row 4, column `J`") && err.contains("not a finite number"),
+        "{err}"
+    );
+    let err = validate("inf.csv", &with_cell(&good, "phi", 2, "inf"));
+    assert!(err.contains("data row 2, column `phi`"), "{err}");
+    let err = validate("text.csv", &with_cell(&good, "mu", 7, "n/a"));
+    assert!(
+        err.contains("data row 7, column `mu`") && err.contains("`n/a` is not a number"),
+        "{err}"
+    );
+    let err = validate("empty.csv", &format!("{HEADER}\n"));
+    assert!(err.contains("holds no data rows"), "{err}");
+    let good_path = write(&dir, "good.csv", &good);
+    let err = suspflow_err(&[
+        "validate",
+        "--models",
+        s(&models),
+        "--data",
+        s(&good_path),
+        "--mapping",
+        "viscosity",
+    ]);
+    assert!(
+        err.contains("unknown mapping `viscosity`") && err.contains("mu, theta, dv"),
+        "{err}"
+    );
+    let err = suspflow_err(&["validate", "--models", s(&dir.join("none")), "--data", s(&good_path)]);
+    assert!(
+        err.contains("loading model `mu`") && err.contains("none/mu.meta.json"),
+        "{err}"
+    );
+    // A model whose sidecar names other features than its mapping.
+    let meta = models.join("dv.meta.json");
+    std::fs::write(
+        &meta,
+        std::fs::read_to_string(&meta)
+            .unwrap()
+            .replacen("\"Delta_v\"", "\"Theta\"", 1),
+    )
+    .unwrap();
+    let err = suspflow_err(&["validate", "--models", s(&models), "--data", s(&good_path)]);
+    assert!(
+        err.contains("feature mismatch") && err.contains("dv.meta.json"),
+        "{err}"
+    );
+    // --train that is not the training data.
+    let err = suspflow_err(&[
+        "validate",
+        "--models",
+        s(&models),
+        "--data",
+        s(&good_path),
+        "--mapping",
+        "mu",
+        "--train",
+        s(&good_path),
+    ]);
+    assert!(err.contains("--train") && err.contains("hash differs"), "{err}");
+    // predict: a feature missing, and an undefined feature value.
+    let missing = write(&dir, "missing.csv", "scene_id,phi,J\ns0,0.5,0.001\n");
+    let err = suspflow_err(&["predict", "--model", s(&models.join("mu")), "--input", s(&missing)]);
+    assert!(err.contains("lacks column(s) phi_loc"), "{err}");
+    let hole = write(&dir, "hole.csv", &table(&validation_scenes(10), &[6], &[]));
+    let err = suspflow_err(&["predict", "--model", s(&models.join("mu")), "--input", s(&hole)]);
+    assert!(err.contains("data row 6, column `J` is empty"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bench_predict_times_load_read_and_predict_of_a_50_bin_profile() {
+    let dir = scratch("bench");
+    let train = write(&dir, "train.csv", &table(&training_scenes(4, 10), &[], &[]));
+    let models = dir.join("models");
+    train_untuned(&train, &models, &["mu", "dv"]);
+    let out = suspflow_ok(&[
+        "bench-predict",
+        "--models",
+        s(&models),
+        "--mapping",
+        "mu",
+        "--mapping",
+        "dv",
+        "--repeat",
+        "3",
+        "--json",
+    ]);
+    let records: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        records
+            .iter()
+            .map(|r| r["mapping"].as_str().unwrap())
+            .collect::<Vec<_>>(),
+        ["mu", "dv"]
+    );
+    for r in &records {
+        assert_eq!((r["rows"].as_u64(), r["runs"].as_u64()), (Some(50), Some(3)), "{r}");
+        let ms = |k: &str| r[k].as_f64().unwrap();
+        assert!(
+            ms("min_ms") > 0.0 && ms("min_ms") <= ms("median_ms") && ms("min_ms") <= ms("first_ms"),
+            "{r}"
+        );
+        for stage in ["load_ms", "read_ms", "predict_ms"] {
+            assert!(ms(stage) > 0.0 && ms(stage) <= ms("median_ms") * 3.0, "{stage}: {r}");
+        }
+    }
+    let out = suspflow_ok(&[
+        "bench-predict",
+        "--models",
+        s(&models),
+        "--mapping",
+        "mu",
+        "--repeat",
+        "2",
+        "--rows",
+        "7",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.starts_with("mu: 7 rows, load + read + predict: median") && text.contains(" ms"),
+        "{text}"
+    );
+    let err = suspflow_err(&["bench-predict", "--models", s(&models), "--mapping", "theta"]);
+    assert!(err.contains("theta.meta.json"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -1,7 +1,8 @@
 //! Gradient-boosted trees: the only module that talks to XGBoost.
 //!
-//! Training, multi-output prediction, JSON save/load, and feature importance go through the
-//! `xgb` crate; the library version comes straight from the C API (`xgboost_lib-sys`).
+//! Training, multi-output prediction and JSON save/load go through the `xgb` crate; the
+//! library version comes straight from the C API (`xgboost_lib-sys`). Feature importance is
+//! read from the model's JSON by [`Forest`].
 //! Several outputs are learnt by one booster: the labels are passed as a row-major
 //! rows x outputs array, and [`MultiStrategy`] says how trees are shared among the outputs.
 
@@ -13,6 +14,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SurrogateError};
 use crate::files;
+use crate::forest::Forest;
+use crate::xgboost_json::ShapeJson;
 
 /// How a booster with several outputs grows its trees (XGBoost's `multi_strategy`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -237,23 +240,18 @@ impl Booster {
         files::write(path, &self.to_json()?)
     }
 
-    /// Reads a model written by [`Booster::save_json`] (or by XGBoost itself, in JSON).
+    /// Reads a model written by [`Booster::save_json`] (or by XGBoost itself, in JSON). The
+    /// loaded booster predicts on one thread: inputs here are profiles of tens of rows, for
+    /// which starting a team of threads costs more than it saves.
     pub fn load_json(path: &Path) -> Result<Self> {
         let json = files::read(path)?;
-        let model: ModelJson = files::parse_json(path, &json)?;
-        let shape = &model.learner.learner_model_param;
-        let count = |name: &str, text: &str| {
-            text.parse::<usize>().map_err(|_| {
-                SurrogateError::ModelFormat(format!(
-                    "{}: learner_model_param.{name} = `{text}`",
-                    path.display()
-                ))
-            })
-        };
-        let n_features = count("num_feature", &shape.num_feature)?;
-        // A single-output model may say 0 or 1.
-        let n_outputs = count("num_target", &shape.num_target)?.max(1);
-        let inner = xgb::Booster::load_buffer(&json)?;
+        let model: ShapeJson = files::parse_json(path, &json)?;
+        let (n_features, n_outputs) = model
+            .learner
+            .learner_model_param
+            .counts(&path.display().to_string())?;
+        let mut inner = xgb::Booster::load_buffer(&json)?;
+        inner.set_param("nthread", "1")?;
         Ok(Booster {
             inner,
             n_features,
@@ -261,39 +259,9 @@ impl Booster {
         })
     }
 
-    /// XGBoost's "gain" importance of each feature, in feature order: the average loss
-    /// reduction of the splits on that feature over all trees (0 for a feature never split on).
+    /// XGBoost's "gain" importance of each feature (see [`Forest::feature_importance_gain`]).
     pub fn feature_importance_gain(&self) -> Result<Vec<f64>> {
-        let json = self.to_json()?;
-        let model: ModelJson = serde_json::from_slice(&json)
-            .map_err(|e| SurrogateError::ModelFormat(format!("the model's own JSON: {e}")))?;
-        let mut total_gain = vec![0.0; self.n_features];
-        let mut splits = vec![0_u32; self.n_features];
-        for tree in &model.learner.gradient_booster.model.trees {
-            let nodes = tree
-                .left_children
-                .iter()
-                .zip(&tree.split_indices)
-                .zip(&tree.loss_changes);
-            let split_nodes = nodes.filter(|((&left_child, _), _)| left_child >= 0);
-            for ((_, &feature), &gain) in split_nodes {
-                let (Some(total), Some(count)) =
-                    (total_gain.get_mut(feature), splits.get_mut(feature))
-                else {
-                    return Err(SurrogateError::ModelFormat(format!(
-                        "a split on feature {feature}, but the model has {} features",
-                        self.n_features
-                    )));
-                };
-                *total += gain;
-                *count += 1;
-            }
-        }
-        Ok(total_gain
-            .iter()
-            .zip(&splits)
-            .map(|(&g, &n)| if n > 0 { g / f64::from(n) } else { 0.0 })
-            .collect())
+        Ok(Forest::from_json(&self.to_json()?, "the model's own JSON")?.feature_importance_gain())
     }
 
     /// The model as XGBoost JSON bytes.
@@ -336,41 +304,4 @@ fn finite_f32(values: ArrayView2<f64>, what: &str) -> Result<Vec<f32>> {
             }
         })
         .collect()
-}
-
-/// The parts of XGBoost's JSON model format read here.
-#[derive(Deserialize)]
-struct ModelJson {
-    learner: LearnerJson,
-}
-
-#[derive(Deserialize)]
-struct LearnerJson {
-    learner_model_param: LearnerModelParamJson,
-    gradient_booster: GradientBoosterJson,
-}
-
-/// XGBoost writes these numbers as JSON strings.
-#[derive(Deserialize)]
-struct LearnerModelParamJson {
-    num_feature: String,
-    num_target: String,
-}
-
-#[derive(Deserialize)]
-struct GradientBoosterJson {
-    model: TreesJson,
-}
-
-#[derive(Deserialize)]
-struct TreesJson {
-    trees: Vec<TreeJson>,
-}
-
-/// Node arrays of one tree; a node whose left child is -1 is a leaf.
-#[derive(Deserialize)]
-struct TreeJson {
-    left_children: Vec<i64>,
-    split_indices: Vec<usize>,
-    loss_changes: Vec<f64>,
 }

@@ -6,7 +6,8 @@
 
 use std::collections::BTreeMap;
 
-use serde::Serialize;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use crate::booster::HyperParameters;
 use crate::error::{Result, SurrogateError};
@@ -67,7 +68,7 @@ pub fn leave_one_group_out(groups: &[String]) -> Result<Vec<Fold>> {
 }
 
 /// Cross-validated error of one set of hyper-parameters.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CvScore {
     pub params: HyperParameters,
     /// Relative L2 error of each output (eq 6.6), averaged over the folds.
@@ -105,7 +106,7 @@ pub fn cross_validate(
 }
 
 /// Values to try for the hyper-parameters that matter most; the others come from `base`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct HyperParameterGrid {
     pub base: HyperParameters,
     pub n_estimators: Vec<u32>,
@@ -159,6 +160,8 @@ pub struct GridSearch {
 }
 
 /// Cross-validates every candidate of `grid` on `folds` and picks the best by mean error.
+/// Candidates run in parallel on rayon's pool; each booster is seeded and trained on its own
+/// thread(s) (`nthread`), so the result does not depend on the number of threads.
 pub fn grid_search(
     mapping: &Mapping,
     samples: &Samples,
@@ -167,7 +170,7 @@ pub fn grid_search(
 ) -> Result<GridSearch> {
     let scores = grid
         .candidates()
-        .iter()
+        .par_iter()
         .map(|params| cross_validate(mapping, samples, folds, params))
         .collect::<Result<Vec<_>>>()?;
     let best = scores

@@ -1,8 +1,11 @@
 //! A CSV dataset (SPEC section 8): one row per bin per simulation, named columns.
 //!
 //! Every column keeps its text (used for grouping keys such as `scene_id` or `profile`), and
-//! its numbers when every cell parses as one. Rows are numbered from 1, counting data rows
-//! only (the header is not a data row), in every error message.
+//! its numbers when every cell parses as one. An empty cell is an undefined value (the
+//! simulator leaves `J`, `mu` and `Theta` empty where the bin pressure `P <= 0`): it reads as
+//! NaN, [`Dataset::complete_rows`] finds the rows without one, and [`Dataset::matrix`] refuses
+//! it. Rows are numbered from 1, counting data rows only (the header is not a data row), in
+//! every error message.
 
 use std::collections::HashSet;
 use std::path::Path;
@@ -31,7 +34,8 @@ pub struct Dataset {
 #[derive(Debug, Clone)]
 struct Column {
     text: Vec<String>,
-    /// The parsed values, or the 0-based index of the first cell that is not a number.
+    /// The parsed values (NaN for an empty cell), or the 0-based index of the first cell that
+    /// is neither empty nor a number.
     numbers: std::result::Result<Vec<f64>, usize>,
 }
 
@@ -40,7 +44,13 @@ impl Column {
         let numbers = text
             .iter()
             .enumerate()
-            .map(|(i, cell)| cell.parse::<f64>().map_err(|_| i))
+            .map(|(i, cell)| {
+                if cell.is_empty() {
+                    Ok(f64::NAN)
+                } else {
+                    cell.parse::<f64>().map_err(|_| i)
+                }
+            })
             .collect();
         Column { text, numbers }
     }
@@ -129,8 +139,9 @@ impl Dataset {
         self.fingerprint
     }
 
-    /// The numbers of column `name`, one per row. NaN and infinities are returned as they are
-    /// (a standard error can legitimately be NaN); [`Dataset::matrix`] refuses them.
+    /// The numbers of column `name`, one per row, NaN for an empty cell. NaN and infinities
+    /// are returned as they are (a standard error can legitimately be NaN);
+    /// [`Dataset::matrix`] refuses them.
     pub fn column(&self, name: &str) -> Result<&[f64]> {
         let column = self.find(name)?;
         column
@@ -156,13 +167,35 @@ impl Dataset {
 
     /// The columns `names`, in that order, as a rows x columns matrix of finite numbers.
     pub fn matrix(&self, names: &[&str]) -> Result<Array2<f64>> {
-        let mut matrix = Array2::zeros((self.n_rows, names.len()));
+        let all: Vec<usize> = (0..self.n_rows).collect();
+        self.matrix_of_rows(names, &all)
+    }
+
+    /// The rows `rows` (0-based, in that order) of the columns `names` as a rows x columns
+    /// matrix of finite numbers; an empty, NaN or infinite cell is an error naming its row.
+    pub fn matrix_of_rows(&self, names: &[&str], rows: &[usize]) -> Result<Array2<f64>> {
+        if let Some(&bad) = rows.iter().find(|&&row| row >= self.n_rows) {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "row index {bad} is out of range for {} rows of {}",
+                self.n_rows, self.source_name
+            )));
+        }
+        let mut matrix = Array2::zeros((rows.len(), names.len()));
         for (j, &name) in names.iter().enumerate() {
-            for (i, &value) in self.column(name)?.iter().enumerate() {
+            let (values, text) = (self.column(name)?, self.text(name)?);
+            for (i, &row) in rows.iter().enumerate() {
+                let value = values[row];
+                if text[row].is_empty() {
+                    return Err(SurrogateError::EmptyCell {
+                        source_name: self.source_name.clone(),
+                        row: row + 1,
+                        column: name.to_owned(),
+                    });
+                }
                 if !value.is_finite() {
                     return Err(SurrogateError::NonFinite {
                         source_name: self.source_name.clone(),
-                        row: i + 1,
+                        row: row + 1,
                         column: name.to_owned(),
                         value,
                     });
@@ -171,6 +204,17 @@ impl Dataset {
             }
         }
         Ok(matrix)
+    }
+
+    /// The rows (0-based, ascending) in which no cell of the columns `names` is empty.
+    pub fn complete_rows(&self, names: &[&str]) -> Result<Vec<usize>> {
+        let columns = names
+            .iter()
+            .map(|name| self.text(name))
+            .collect::<Result<Vec<_>>>()?;
+        Ok((0..self.n_rows)
+            .filter(|&row| columns.iter().all(|text| !text[row].is_empty()))
+            .collect())
     }
 
     fn find(&self, name: &str) -> Result<&Column> {
@@ -239,6 +283,32 @@ mod tests {
             duplicate.to_string().contains("`a` appears twice"),
             "{duplicate}"
         );
+    }
+
+    #[test]
+    fn empty_cells_read_as_nan_are_found_and_refused_in_a_matrix() {
+        let data =
+            Dataset::from_csv_bytes(b"scene_id,J,mu\ns1,0.1,0.5\ns1,,0.6\ns2,0.3,\n", "t").unwrap();
+        assert!(data.column("J").unwrap()[1].is_nan());
+        assert_eq!(data.complete_rows(&["J"]).unwrap(), vec![0, 2]);
+        assert_eq!(data.complete_rows(&["J", "mu"]).unwrap(), vec![0]);
+        assert_eq!(
+            data.matrix_of_rows(&["mu", "J"], &[2, 0])
+                .unwrap_err()
+                .to_string(),
+            "t: data row 3, column `mu` is empty (an undefined value)"
+        );
+        assert_eq!(
+            data.matrix_of_rows(&["J", "mu"], &[0])
+                .unwrap()
+                .row(0)
+                .to_vec(),
+            vec![0.1, 0.5]
+        );
+        assert!(matches!(
+            data.complete_rows(&["P"]),
+            Err(SurrogateError::MissingColumn { .. })
+        ));
     }
 
     #[test]

@@ -22,6 +22,14 @@ pub enum SurrogateError {
         text: String,
     },
 
+    /// An empty cell (an undefined value) where a number is needed.
+    #[error("{source_name}: data row {row}, column `{column}` is empty (an undefined value)")]
+    EmptyCell {
+        source_name: String,
+        row: usize,
+        column: String,
+    },
+
     /// A NaN or infinite value where a finite number is needed (`row` counts data rows from 1).
     #[error("{source_name}: data row {row}, column `{column}`: {value} is not a finite number")]
     NonFinite {

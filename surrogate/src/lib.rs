@@ -5,9 +5,11 @@
 //! scaled to [0, 1] ([`MinMaxScaling`], eq 6.4) and learnt by an XGBoost [`Booster`]
 //! (`reg:squarederror`, eq 6.5). A [`TrainedModel`] is that booster plus a sidecar
 //! ([`ModelMeta`]) and is saved as `<mapping>.json` (XGBoost JSON, loadable from Python) and
-//! `<mapping>.meta.json`. Accuracy is the relative L2 error on scaled outputs
-//! ([`relative_l2_error`], eq 6.6), cross-validated by whole simulations
-//! ([`grouped_k_fold`]) and compared with linear [`baselines`].
+//! `<mapping>.meta.json`; a [`Predictor`] reads both back and predicts without the XGBoost
+//! library, walking the trees itself ([`Forest`]). Accuracy is the relative L2 error on
+//! scaled outputs ([`relative_l2_error`], eq 6.6), cross-validated by whole simulations
+//! ([`grouped_k_fold`]), which also chooses the hyper-parameters ([`Tuning`]), and compared
+//! with linear [`baselines`]; [`Validation`] measures a model on unseen flow profiles.
 //!
 //! The XGBoost library is the pinned `xgboost-cpu` wheel's `libxgboost.so`, provided by the
 //! workspace's `vendor/xgboost_lib-sys` crate; see its build script.
@@ -19,11 +21,16 @@ pub mod dataset;
 pub mod error;
 mod files;
 mod fingerprint;
+pub mod forest;
 pub mod mapping;
 pub mod metrics;
 pub mod model;
+pub mod predictor;
 pub mod samples;
 pub mod scaling;
+pub mod tuning;
+pub mod validation;
+mod xgboost_json;
 
 pub use baselines::{evaluate_baseline, Baseline, BaselineScore};
 pub use booster::{xgboost_version, Booster, HyperParameters, MultiStrategy};
@@ -33,8 +40,14 @@ pub use cross_validation::{
 };
 pub use dataset::{Dataset, GROUP_COLUMN};
 pub use error::{Result, SurrogateError};
+pub use forest::Forest;
 pub use mapping::{Mapping, MAPPINGS};
 pub use metrics::relative_l2_error;
 pub use model::{ModelMeta, TrainedModel, TrainingData};
+pub use predictor::Predictor;
 pub use samples::Samples;
 pub use scaling::{MinMaxScaling, Range};
+pub use tuning::{standard_grid, Tuning};
+pub use validation::{
+    profile_names, seeds_validation_error, ProfileError, Validation, ALL_PROFILES, PROFILE_COLUMN,
+};

@@ -36,6 +36,18 @@ pub const MAPPINGS: [Mapping; 3] = [
 ];
 
 impl Mapping {
+    /// The mappings called `names`, in that order, or all of [`MAPPINGS`] when `names` is
+    /// empty; an unknown name is an error listing the known ones.
+    pub fn select<S: AsRef<str>>(names: &[S]) -> Result<Vec<&'static Mapping>> {
+        if names.is_empty() {
+            return Ok(MAPPINGS.iter().collect());
+        }
+        names
+            .iter()
+            .map(|name| Self::by_name(name.as_ref()))
+            .collect()
+    }
+
     /// The mapping called `name`, or an error listing the known names.
     pub fn by_name(name: &str) -> Result<&'static Mapping> {
         MAPPINGS
@@ -61,5 +73,19 @@ mod tests {
             Mapping::by_name("theta").unwrap().outputs,
             &["phi_loc", "mu"]
         );
+    }
+
+    #[test]
+    fn selects_all_by_default_or_the_named_ones() {
+        assert_eq!(Mapping::select::<&str>(&[]).unwrap().len(), MAPPINGS.len());
+        let picked = Mapping::select(&["dv", "mu"]).unwrap();
+        assert_eq!(
+            picked.iter().map(|m| m.name).collect::<Vec<_>>(),
+            ["dv", "mu"]
+        );
+        assert!(matches!(
+            Mapping::select(&["mu", "nope"]),
+            Err(SurrogateError::UnknownMapping { .. })
+        ));
     }
 }

@@ -41,6 +41,9 @@ pub struct TrainingData {
     pub fnv1a_64: String,
     /// Number of rows used for training.
     pub rows: usize,
+    /// Rows of the source left out because a cell of the mapping's columns was empty.
+    #[serde(default)]
+    pub skipped_rows: usize,
 }
 
 /// A booster with its sidecar.
@@ -77,6 +80,7 @@ impl TrainedModel {
                 source: samples.source_name.clone(),
                 fnv1a_64: format!("{:016x}", samples.source_fingerprint),
                 rows: samples.n_rows(),
+                skipped_rows: samples.skipped_rows,
             },
             xgboost_version: xgboost_version(),
         };
@@ -90,27 +94,7 @@ impl TrainedModel {
 
     /// Predictions in original units (rows x outputs) for the feature columns of `dataset`.
     pub fn predict(&self, dataset: &Dataset) -> Result<Array2<f64>> {
-        let available = dataset.column_names();
-        let missing: Vec<&str> = self
-            .meta
-            .features
-            .iter()
-            .filter(|f| !available.contains(f))
-            .map(String::as_str)
-            .collect();
-        if !missing.is_empty() {
-            return Err(SurrogateError::FeatureMismatch {
-                detail: format!(
-                    "{} lacks column(s) {}",
-                    dataset.source_name(),
-                    missing.join(", ")
-                ),
-                expected: self.meta.features.clone(),
-                found: available.to_vec(),
-            });
-        }
-        let names: Vec<&str> = self.meta.features.iter().map(String::as_str).collect();
-        self.predict_features(dataset.matrix(&names)?.view())
+        self.predict_features(self.meta.feature_matrix(dataset)?.view())
     }
 
     /// Predictions in original units for a rows x features matrix, columns in
@@ -140,7 +124,7 @@ impl TrainedModel {
     /// creating `dir` if needed.
     pub fn save(&self, dir: &Path) -> Result<()> {
         files::create_dir_all(dir)?;
-        let (booster_path, meta_path) = Self::paths(dir, &self.meta.mapping);
+        let (booster_path, meta_path) = model_paths(dir, &self.meta.mapping);
         self.booster.save_json(&booster_path)?;
         files::write_json(&meta_path, &self.meta)
     }
@@ -148,10 +132,53 @@ impl TrainedModel {
     /// Reads the model of mapping `name` saved in `dir`, checking that the sidecar, the
     /// booster and the mapping's current definition agree on features and outputs.
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
+        let (meta, booster) = ModelMeta::load_with(dir, name, Booster::load_json, |b| {
+            (b.n_features(), b.n_outputs())
+        })?;
+        Ok(TrainedModel { meta, booster })
+    }
+}
+
+impl ModelMeta {
+    /// The feature columns of `dataset`, in the model's order, as a matrix of finite numbers;
+    /// a missing column is a [`SurrogateError::FeatureMismatch`].
+    pub fn feature_matrix(&self, dataset: &Dataset) -> Result<Array2<f64>> {
+        let available = dataset.column_names();
+        let missing: Vec<&str> = self
+            .features
+            .iter()
+            .filter(|f| !available.contains(f))
+            .map(String::as_str)
+            .collect();
+        if !missing.is_empty() {
+            return Err(SurrogateError::FeatureMismatch {
+                detail: format!(
+                    "{} lacks column(s) {}",
+                    dataset.source_name(),
+                    missing.join(", ")
+                ),
+                expected: self.features.clone(),
+                found: available.to_vec(),
+            });
+        }
+        let names: Vec<&str> = self.features.iter().map(String::as_str).collect();
+        dataset.matrix(&names)
+    }
+
+    /// Reads the sidecar `<dir>/<name>.meta.json` and the trees `<dir>/<name>.json` (with
+    /// `load_trees`), and checks that the sidecar, the trees' `(features, outputs)` counts
+    /// as `shape` tells them, and mapping `name`'s current definition agree.
+    pub(crate) fn load_with<T>(
+        dir: &Path,
+        name: &str,
+        load_trees: impl FnOnce(&Path) -> Result<T>,
+        shape: impl FnOnce(&T) -> (usize, usize),
+    ) -> Result<(Self, T)> {
         let mapping = Mapping::by_name(name)?;
-        let (booster_path, meta_path) = Self::paths(dir, name);
+        let (trees_path, meta_path) = model_paths(dir, name);
         let meta: ModelMeta = files::read_json(&meta_path)?;
-        let booster = Booster::load_json(&booster_path)?;
+        let trees = load_trees(&trees_path)?;
+        let (n_features, n_outputs) = shape(&trees);
         let mismatch = |detail: String| SurrogateError::FeatureMismatch {
             detail,
             expected: mapping.features.iter().map(|&s| s.to_owned()).collect(),
@@ -170,31 +197,31 @@ impl TrainedModel {
                 mapping.outputs.join(", ")
             )));
         }
-        if booster.n_features() != meta.features.len()
-            || booster.n_outputs() != meta.outputs.len()
+        if n_features != meta.features.len()
+            || n_outputs != meta.outputs.len()
             || meta.scaling.ranges.len() != meta.outputs.len()
         {
             return Err(mismatch(format!(
                 "{} has {} features and {} outputs, {} lists {} and {} (with {} scaling ranges)",
-                booster_path.display(),
-                booster.n_features(),
-                booster.n_outputs(),
+                trees_path.display(),
+                n_features,
+                n_outputs,
                 meta_path.display(),
                 meta.features.len(),
                 meta.outputs.len(),
                 meta.scaling.ranges.len()
             )));
         }
-        Ok(TrainedModel { meta, booster })
+        Ok((meta, trees))
     }
+}
 
-    /// `<dir>/<name>.json` and `<dir>/<name>.meta.json`.
-    fn paths(dir: &Path, name: &str) -> (PathBuf, PathBuf) {
-        (
-            dir.join(format!("{name}.json")),
-            dir.join(format!("{name}.meta.json")),
-        )
-    }
+/// `<dir>/<name>.json` (the trees) and `<dir>/<name>.meta.json` (the sidecar).
+fn model_paths(dir: &Path, name: &str) -> (PathBuf, PathBuf) {
+    (
+        dir.join(format!("{name}.json")),
+        dir.join(format!("{name}.meta.json")),
+    )
 }
 
 /// Fails unless `samples` holds exactly the columns `features` -> `outputs`, in that order.

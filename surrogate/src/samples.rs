@@ -7,7 +7,8 @@ use crate::error::{Result, SurrogateError};
 use crate::mapping::Mapping;
 
 /// Feature and output matrices of one mapping, with the group (simulation) of each row and
-/// the row's number in the source dataset (from 1), for error messages.
+/// the row's number in the source dataset (from 1), for error messages. Rows with an empty
+/// (undefined) cell in one of the mapping's columns are left out and counted.
 #[derive(Debug, Clone)]
 pub struct Samples {
     /// Where the rows came from.
@@ -24,20 +25,42 @@ pub struct Samples {
     pub groups: Vec<String>,
     /// 1-based data row of each row in the source dataset.
     pub data_rows: Vec<usize>,
+    /// Rows of the source dataset left out because one of the mapping's cells is empty.
+    pub skipped_rows: usize,
 }
 
 impl Samples {
-    /// Selects `mapping`'s feature and output columns and the group keys of `dataset`.
+    /// Selects `mapping`'s feature and output columns and the group keys of `dataset`, in
+    /// the rows where none of those cells is empty. Text, NaN or an infinity in any of those
+    /// cells is an error naming its row, and so is a dataset left without rows.
     pub fn from_dataset(dataset: &Dataset, mapping: &Mapping) -> Result<Self> {
+        let columns: Vec<&str> = mapping
+            .features
+            .iter()
+            .chain(mapping.outputs)
+            .copied()
+            .collect();
+        let rows = dataset.complete_rows(&columns)?;
+        if rows.is_empty() {
+            return Err(SurrogateError::EmptyDataset {
+                what: format!(
+                    "{} (every row has an empty cell in one of {})",
+                    dataset.source_name(),
+                    columns.join(", ")
+                ),
+            });
+        }
+        let keys = dataset.group_keys()?;
         Ok(Samples {
             source_name: dataset.source_name().to_owned(),
             source_fingerprint: dataset.fingerprint(),
             feature_names: mapping.features.iter().map(|&s| s.to_owned()).collect(),
             output_names: mapping.outputs.iter().map(|&s| s.to_owned()).collect(),
-            features: dataset.matrix(mapping.features)?,
-            outputs: dataset.matrix(mapping.outputs)?,
-            groups: dataset.group_keys()?.to_vec(),
-            data_rows: (1..=dataset.n_rows()).collect(),
+            features: dataset.matrix_of_rows(mapping.features, &rows)?,
+            outputs: dataset.matrix_of_rows(mapping.outputs, &rows)?,
+            groups: rows.iter().map(|&row| keys[row].clone()).collect(),
+            data_rows: rows.iter().map(|&row| row + 1).collect(),
+            skipped_rows: dataset.n_rows() - rows.len(),
         })
     }
 
@@ -46,7 +69,8 @@ impl Samples {
         self.groups.len()
     }
 
-    /// The rows `rows` (0-based indices into these samples), in that order.
+    /// The rows `rows` (0-based indices into these samples), in that order; `skipped_rows`
+    /// still counts the rows the source lost to empty cells.
     pub fn subset(&self, rows: &[usize]) -> Result<Self> {
         if let Some(&bad) = rows.iter().find(|&&row| row >= self.n_rows()) {
             return Err(SurrogateError::InvalidArgument(format!(
@@ -64,6 +88,7 @@ impl Samples {
             outputs: self.outputs.select(Axis(0), rows),
             groups: rows.iter().map(|&row| self.groups[row].clone()).collect(),
             data_rows: rows.iter().map(|&row| self.data_rows[row]).collect(),
+            skipped_rows: self.skipped_rows,
         })
     }
 }

@@ -75,6 +75,60 @@ fn infinity_and_text_are_refused_too() {
 }
 
 #[test]
+fn empty_cells_skip_the_row_only_for_the_mappings_that_read_them() {
+    let csv = with_cell("Theta", 3, "");
+    let csv = {
+        let mut lines: Vec<String> = csv.lines().map(str::to_owned).collect();
+        let index = lines[0].split(',').position(|name| name == "mu").unwrap();
+        let mut cells: Vec<&str> = lines[5].split(',').collect();
+        cells[index] = "";
+        lines[5] = cells.join(",");
+        lines.join("\n") + "\n"
+    };
+    let data = Dataset::from_csv_bytes(csv.as_bytes(), "holes.csv").unwrap();
+    for (name, skipped) in [("mu", vec![5]), ("theta", vec![3, 5]), ("dv", vec![5])] {
+        let samples = Samples::from_dataset(&data, Mapping::by_name(name).unwrap()).unwrap();
+        assert_eq!(samples.skipped_rows, skipped.len(), "{name}");
+        assert_eq!(samples.n_rows(), data.n_rows() - skipped.len(), "{name}");
+        assert!(
+            skipped.iter().all(|row| !samples.data_rows.contains(row)),
+            "{name}: {:?}",
+            samples.data_rows
+        );
+        let model = TrainedModel::fit(
+            Mapping::by_name(name).unwrap(),
+            &samples,
+            &HyperParameters::default(),
+        )
+        .unwrap();
+        assert_eq!(model.meta().training_data.skipped_rows, skipped.len());
+    }
+    // Predicting needs every feature: the empty cell is named.
+    let error = data.matrix(&["J", "Theta"]).unwrap_err();
+    assert!(
+        matches!(&error, SurrogateError::EmptyCell { row: 3, column, .. } if column == "Theta"),
+        "{error:?}"
+    );
+}
+
+#[test]
+fn a_mapping_left_without_rows_by_empty_cells_is_an_empty_dataset() {
+    let csv = "scene_id,J,phi_loc,phi,mu\ns1,0.1,0.5,0.5,\ns2,,0.5,0.5,0.3\n";
+    let data = Dataset::from_csv_bytes(csv.as_bytes(), "holes.csv").unwrap();
+    let error = Samples::from_dataset(&data, Mapping::by_name("mu").unwrap()).unwrap_err();
+    assert!(
+        matches!(error, SurrogateError::EmptyDataset { .. }),
+        "{error:?}"
+    );
+    assert!(
+        error
+            .to_string()
+            .contains("holes.csv (every row has an empty cell"),
+        "{error}"
+    );
+}
+
+#[test]
 fn empty_dataset_is_refused() {
     let header_only = synthetic_csv(1, 1, 1).lines().next().unwrap().to_owned() + "\n";
     for csv in [header_only.as_str(), ""] {

@@ -4,10 +4,10 @@ mod common;
 
 use std::collections::BTreeSet;
 
-use common::synthetic_dataset;
+use common::{scratch_dir, synthetic_dataset};
 use surrogate::{
-    cross_validate, grid_search, grouped_k_fold, leave_one_group_out, Fold, HyperParameterGrid,
-    HyperParameters, Mapping, Samples, SurrogateError,
+    cross_validate, grid_search, grouped_k_fold, leave_one_group_out, standard_grid, Fold,
+    HyperParameterGrid, HyperParameters, Mapping, Samples, SurrogateError, Tuning,
 };
 
 /// Groups of uneven sizes: g0 x 5, g1 x 1, g2 x 3, ... interleaved.
@@ -136,4 +136,58 @@ fn cross_validation_and_grid_search_are_deterministic_and_pick_the_minimum() {
     }
     let single = cross_validate(mapping, &samples, &folds, &first.best.params).unwrap();
     assert_eq!(single, first.best);
+}
+
+#[test]
+fn tuning_leaves_one_simulation_out_and_compares_with_the_defaults() {
+    let data = synthetic_dataset(5, 12, 3);
+    let mapping = Mapping::by_name("dv").unwrap();
+    let samples = Samples::from_dataset(&data, mapping).unwrap();
+    // A grid without XGBoost's defaults: their score is computed on the same folds.
+    let grid = HyperParameterGrid {
+        base: HyperParameters::default(),
+        n_estimators: vec![20, 50],
+        max_depth: vec![2],
+        learning_rate: vec![0.1],
+        min_child_weight: vec![],
+    };
+    let tuning = Tuning::run(mapping, &samples, &grid).unwrap();
+    assert_eq!(tuning.folds, 5);
+    assert_eq!((tuning.rows, tuning.skipped_rows), (60, 0));
+    assert_eq!(tuning.scores.len(), 2);
+    let minimum = tuning
+        .scores
+        .iter()
+        .map(|s| s.mean)
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(tuning.chosen.mean, minimum);
+    assert_eq!(tuning.untuned.params, HyperParameters::default());
+    let folds = leave_one_group_out(&samples.groups).unwrap();
+    let defaults = cross_validate(mapping, &samples, &folds, &HyperParameters::default()).unwrap();
+    assert_eq!(tuning.untuned, defaults);
+
+    let dir = scratch_dir("tuning_record");
+    tuning.save(&dir).unwrap();
+    assert!(Tuning::path(&dir, "dv").ends_with("dv.tuning.json"));
+    assert_eq!(Tuning::load(&dir, "dv").unwrap(), tuning);
+}
+
+#[test]
+fn the_standard_grid_holds_the_defaults_and_stays_small() {
+    let candidates = standard_grid().candidates();
+    assert!(candidates.contains(&HyperParameters::default()));
+    assert!(candidates.len() <= 50, "{} settings", candidates.len());
+    assert!(candidates.iter().all(|p| p.n_estimators <= 300));
+}
+
+#[test]
+fn tuning_one_simulation_is_a_clear_error() {
+    let data = synthetic_dataset(1, 12, 3);
+    let mapping = Mapping::by_name("mu").unwrap();
+    let samples = Samples::from_dataset(&data, mapping).unwrap();
+    let error = Tuning::run(mapping, &samples, &standard_grid()).unwrap_err();
+    assert!(
+        error.to_string().contains("at least 2 simulations"),
+        "{error}"
+    );
 }

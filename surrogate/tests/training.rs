@@ -7,7 +7,8 @@ use std::time::Instant;
 use common::{scratch_dir, synthetic_dataset};
 use ndarray::{Array2, Axis};
 use surrogate::{
-    relative_l2_error, HyperParameters, Mapping, MultiStrategy, Samples, TrainedModel, MAPPINGS,
+    relative_l2_error, HyperParameters, Mapping, MultiStrategy, Predictor, Samples, SurrogateError,
+    TrainedModel, MAPPINGS,
 };
 
 /// Rows of the scenes named in `held_out` (test) and of all others (train).
@@ -126,6 +127,114 @@ fn json_round_trip_predicts_bitwise_identically() {
             model.feature_importance().unwrap()
         );
     }
+}
+
+/// One row per split node of the saved model of `mapping` in `dir`: the first row of `data`
+/// with the split's feature set exactly to its threshold, where `<` and `<=` part ways.
+fn rows_on_split_thresholds(
+    dir: &std::path::Path,
+    mapping: &Mapping,
+    data: &surrogate::Dataset,
+) -> surrogate::Dataset {
+    let path = dir.join(format!("{}.json", mapping.name));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let base: Vec<f64> = mapping
+        .features
+        .iter()
+        .map(|f| data.column(f).unwrap()[0])
+        .collect();
+    let mut csv = mapping.features.join(",") + "\n";
+    let trees = json["learner"]["gradient_booster"]["model"]["trees"]
+        .as_array()
+        .unwrap();
+    for tree in trees {
+        let numbers = |key: &str| -> Vec<f64> {
+            tree[key]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect()
+        };
+        let (left, feature, threshold) = (
+            numbers("left_children"),
+            numbers("split_indices"),
+            numbers("split_conditions"),
+        );
+        for node in (0..left.len()).filter(|&n| left[n] >= 0.0) {
+            let mut row = base.clone();
+            row[feature[node] as usize] = threshold[node];
+            let cells: Vec<String> = row.iter().map(f64::to_string).collect();
+            csv += &(cells.join(",") + "\n");
+        }
+    }
+    surrogate::Dataset::from_csv_bytes(csv.as_bytes(), "thresholds").unwrap()
+}
+
+#[test]
+fn predictor_reproduces_the_library_without_it() {
+    // Training rows and unseen ones, including values beyond the training range.
+    let data = synthetic_dataset(8, 30, 5);
+    let unseen = synthetic_dataset(3, 40, 6);
+    let deep = HyperParameters::default();
+    let shallow = HyperParameters {
+        n_estimators: 300,
+        max_depth: 2,
+        learning_rate: 0.05,
+        min_child_weight: 5.0,
+        ..HyperParameters::default()
+    };
+    for mapping in &MAPPINGS {
+        for params in [&deep, &shallow] {
+            let model = TrainedModel::train(mapping, &data, params).unwrap();
+            let dir = scratch_dir(&format!("predictor_{}_{}", mapping.name, params.max_depth));
+            model.save(&dir).unwrap();
+            let predictor = Predictor::load(&dir, mapping.name).unwrap();
+            assert_eq!(predictor.meta(), model.meta());
+            let on_thresholds = rows_on_split_thresholds(&dir, mapping, &data);
+            for table in [&data, &unseen, &on_thresholds] {
+                let library = model.predict(table).unwrap();
+                let own = predictor.predict(table).unwrap();
+                assert_eq!(library.dim(), own.dim());
+                // Both sum f32 leaves; the order of the sums may differ in the last bit.
+                for (j, range) in model.meta().scaling.ranges.iter().enumerate() {
+                    let tolerance = 1e-6 * (range.max - range.min);
+                    let worst = library
+                        .column(j)
+                        .iter()
+                        .zip(own.column(j))
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0, f64::max);
+                    assert!(
+                        worst <= tolerance,
+                        "{} depth {} output {j}: differs by {worst}",
+                        mapping.name,
+                        params.max_depth
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn predictor_refuses_vector_leaves() {
+    let data = synthetic_dataset(4, 20, 7);
+    let params = HyperParameters {
+        multi_strategy: MultiStrategy::MultiOutputTree,
+        n_estimators: 5,
+        ..HyperParameters::default()
+    };
+    let mapping = Mapping::by_name("theta").unwrap();
+    let dir = scratch_dir("predictor_vector_leaves");
+    TrainedModel::train(mapping, &data, &params)
+        .unwrap()
+        .save(&dir)
+        .unwrap();
+    let error = Predictor::load(&dir, "theta").unwrap_err();
+    assert!(matches!(error, SurrogateError::ModelFormat(_)), "{error:?}");
+    assert!(error.to_string().contains("multi_output_tree"), "{error}");
 }
 
 #[test]

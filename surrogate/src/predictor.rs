@@ -1,0 +1,46 @@
+//! Prediction from a saved model without the XGBoost library: the sidecar plus the trees
+//! read by [`Forest`], for callers that load a model to predict one profile and must do
+//! so in milliseconds (`suspflow predict`). It gives the same numbers as the
+//! [`TrainedModel`](crate::model::TrainedModel) the files came from, to f32 rounding.
+
+use std::path::Path;
+
+use ndarray::Array2;
+
+use crate::dataset::Dataset;
+use crate::error::Result;
+use crate::files;
+use crate::forest::Forest;
+use crate::model::ModelMeta;
+
+/// A saved model, ready to predict.
+#[derive(Debug, Clone)]
+pub struct Predictor {
+    meta: ModelMeta,
+    forest: Forest,
+}
+
+impl Predictor {
+    /// Reads the model of mapping `name` saved in `dir`, with the same checks as
+    /// [`TrainedModel::load`](crate::model::TrainedModel::load).
+    pub fn load(dir: &Path, name: &str) -> Result<Self> {
+        let read_trees =
+            |path: &Path| Forest::from_json(&files::read(path)?, &path.display().to_string());
+        let (meta, forest) =
+            ModelMeta::load_with(dir, name, read_trees, |f| (f.n_features(), f.n_outputs()))?;
+        Ok(Predictor { meta, forest })
+    }
+
+    /// The sidecar.
+    pub fn meta(&self) -> &ModelMeta {
+        &self.meta
+    }
+
+    /// Predictions in original units (rows x outputs) for the feature columns of `dataset`.
+    pub fn predict(&self, dataset: &Dataset) -> Result<Array2<f64>> {
+        let scaled = self
+            .forest
+            .predict(self.meta.feature_matrix(dataset)?.view())?;
+        self.meta.scaling.unscale(scaled.view())
+    }
+}

@@ -1,0 +1,118 @@
+//! Hyper-parameter selection for one mapping: a grid search cross-validated by leaving one
+//! simulation out (folds by [`crate::dataset::GROUP_COLUMN`]), on the training data only, so
+//! that the validation profiles never influence the choice. The record keeps every
+//! candidate's error next to that of XGBoost's defaults, the setting the thesis trained
+//! with ("without hyperparameter optimization", section 6.2), and is saved as
+//! `<mapping>.tuning.json` beside the model.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use crate::booster::HyperParameters;
+use crate::cross_validation::{
+    cross_validate, grid_search, leave_one_group_out, CvScore, HyperParameterGrid,
+};
+use crate::error::{Result, SurrogateError};
+use crate::files;
+use crate::mapping::Mapping;
+use crate::samples::Samples;
+
+/// The grid `suspflow train` searches: 2 x 4 x 3 x 2 = 48 settings around XGBoost's
+/// defaults (which it contains), with shallow trees, slower learning and heavier leaves
+/// (`min_child_weight`, a sum of unit hessians: rows per leaf) for smoother fits of about
+/// 300 noisy rows from 8 simulations. At most 300 rounds, so that training all three
+/// mappings with any of them stays well under a second.
+pub fn standard_grid() -> HyperParameterGrid {
+    HyperParameterGrid {
+        base: HyperParameters::default(),
+        n_estimators: vec![100, 300],
+        max_depth: vec![2, 3, 4, 6],
+        learning_rate: vec![0.05, 0.1, 0.3],
+        min_child_weight: vec![1.0, 5.0],
+    }
+}
+
+/// The outcome of tuning one mapping.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Tuning {
+    /// Name of the [`Mapping`].
+    pub mapping: String,
+    /// Output columns, in the order of each score's `per_output`.
+    pub outputs: Vec<String>,
+    /// How the folds were made.
+    pub cross_validation: String,
+    /// Number of folds (= simulations).
+    pub folds: usize,
+    /// Rows used (rows with an empty cell in the mapping's columns are left out).
+    pub rows: usize,
+    /// Rows of the training data left out for an empty cell.
+    pub skipped_rows: usize,
+    pub grid: HyperParameterGrid,
+    /// Every candidate, in grid order.
+    pub scores: Vec<CvScore>,
+    /// The candidate with the lowest mean error (the first one on a tie).
+    pub chosen: CvScore,
+    /// XGBoost's default setting ([`HyperParameters::default`]), the thesis's untuned model.
+    pub untuned: CvScore,
+    /// Wall time of the whole search, in seconds.
+    pub seconds: f64,
+}
+
+impl Tuning {
+    /// Cross-validates every setting of `grid` (and XGBoost's defaults, if the grid lacks
+    /// them) on `samples`, one fold per simulation, and picks the lowest mean error.
+    pub fn run(mapping: &Mapping, samples: &Samples, grid: &HyperParameterGrid) -> Result<Self> {
+        let started = Instant::now();
+        let folds = leave_one_group_out(&samples.groups).map_err(|_| {
+            SurrogateError::InvalidArgument(format!(
+                "tuning `{}` leaves one simulation out at a time, so it needs rows of at least 2 \
+                 simulations (distinct `{}` values) in {}",
+                mapping.name,
+                crate::dataset::GROUP_COLUMN,
+                samples.source_name
+            ))
+        })?;
+        let search = grid_search(mapping, samples, &folds, grid)?;
+        let defaults = HyperParameters::default();
+        let untuned = match search.scores.iter().find(|score| score.params == defaults) {
+            Some(score) => score.clone(),
+            None => cross_validate(mapping, samples, &folds, &defaults)?,
+        };
+        Ok(Tuning {
+            mapping: mapping.name.to_owned(),
+            outputs: samples.output_names.clone(),
+            cross_validation: format!(
+                "leave one simulation out (groups: `{}`), relative L2 error of each output \
+                 (eq 6.6) on the left-out simulation, scaled with the fold's training ranges, \
+                 averaged over folds",
+                crate::dataset::GROUP_COLUMN
+            ),
+            folds: folds.len(),
+            rows: samples.n_rows(),
+            skipped_rows: samples.skipped_rows,
+            grid: grid.clone(),
+            scores: search.scores,
+            chosen: search.best,
+            untuned,
+            seconds: started.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Writes `<dir>/<mapping>.tuning.json`, creating `dir` if needed.
+    pub fn save(&self, dir: &Path) -> Result<()> {
+        files::create_dir_all(dir)?;
+        files::write_json(&Self::path(dir, &self.mapping), self)
+    }
+
+    /// Reads `<dir>/<name>.tuning.json`.
+    pub fn load(dir: &Path, name: &str) -> Result<Self> {
+        files::read_json(&Self::path(dir, name))
+    }
+
+    /// `<dir>/<name>.tuning.json`.
+    pub fn path(dir: &Path, name: &str) -> PathBuf {
+        dir.join(format!("{name}.tuning.json"))
+    }
+}

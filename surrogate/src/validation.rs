@@ -1,0 +1,108 @@
+//! A trained mapping measured on unseen flow profiles (thesis section 6.2, figures 6.2-6.4):
+//! the relative L2 error (eq 6.6) of each output on each validation profile and on all of
+//! them together, on outputs scaled with the training ranges stored in the model.
+
+use ndarray::Array2;
+
+use crate::dataset::Dataset;
+use crate::error::Result;
+use crate::mapping::Mapping;
+use crate::model::TrainedModel;
+use crate::samples::Samples;
+
+/// The column whose text names the flow profile of a row (the `u_inf(y)` expression).
+pub const PROFILE_COLUMN: &str = "profile";
+
+/// The name under which the errors over all validation rows together are reported.
+pub const ALL_PROFILES: &str = "all";
+
+/// The seeds' validation error for `output` of mapping `mapping` (thesis figures 6.2-6.4, on
+/// the two validation profiles of SPEC section 8 together), as a fraction.
+pub fn seeds_validation_error(mapping: &str, output: &str) -> Option<f64> {
+    const SEEDS: [(&str, &str, f64); 5] = [
+        ("mu", "mu", 0.085),
+        ("theta", "phi_loc", 0.007),
+        ("theta", "mu", 0.064),
+        ("dv", "phi_loc", 0.010),
+        ("dv", "mu", 0.086),
+    ];
+    SEEDS
+        .iter()
+        .find(|(m, o, _)| *m == mapping && *o == output)
+        .map(|&(_, _, error)| error)
+}
+
+/// Errors of one group of validation rows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProfileError {
+    /// The profile, or [`ALL_PROFILES`].
+    pub profile: String,
+    /// Number of rows measured.
+    pub rows: usize,
+    /// Relative L2 error of each output (eq 6.6), as a fraction.
+    pub per_output: Vec<f64>,
+}
+
+/// A model's predictions and errors on a validation dataset.
+#[derive(Debug, Clone)]
+pub struct Validation {
+    /// The validation rows the mapping can use (rows with an empty cell are left out).
+    pub samples: Samples,
+    /// The profile of each row of `samples`.
+    pub profiles: Vec<String>,
+    /// Predictions in original units, one row per row of `samples`.
+    pub predicted: Array2<f64>,
+    /// One entry per profile, in order of first appearance in the dataset, then one for
+    /// [`ALL_PROFILES`]. A profile all of whose rows were left out has no entry.
+    pub errors: Vec<ProfileError>,
+}
+
+impl Validation {
+    /// Predicts `dataset` with `model` and measures the errors per profile and overall.
+    pub fn run(model: &TrainedModel, dataset: &Dataset) -> Result<Self> {
+        let mapping = Mapping::by_name(&model.meta().mapping)?;
+        let samples = Samples::from_dataset(dataset, mapping)?;
+        let all_profiles = dataset.text(PROFILE_COLUMN)?;
+        let profiles: Vec<String> = samples
+            .data_rows
+            .iter()
+            .map(|&row| all_profiles[row - 1].clone())
+            .collect();
+        let mut errors = Vec::new();
+        for profile in profile_names(dataset)? {
+            let rows: Vec<usize> = (0..profiles.len())
+                .filter(|&i| profiles[i] == profile)
+                .collect();
+            if !rows.is_empty() {
+                errors.push(ProfileError {
+                    per_output: model.evaluate(&samples.subset(&rows)?)?,
+                    profile,
+                    rows: rows.len(),
+                });
+            }
+        }
+        errors.push(ProfileError {
+            profile: ALL_PROFILES.to_owned(),
+            rows: samples.n_rows(),
+            per_output: model.evaluate(&samples)?,
+        });
+        let predicted = model.predict_features(samples.features.view())?;
+        Ok(Validation {
+            samples,
+            profiles,
+            predicted,
+            errors,
+        })
+    }
+}
+
+/// The distinct values of [`PROFILE_COLUMN`], in order of first appearance.
+pub fn profile_names(dataset: &Dataset) -> Result<Vec<String>> {
+    let mut names: Vec<String> = Vec::new();
+    for profile in dataset.text(PROFILE_COLUMN)? {
+        if !names.contains(profile) {
+            names.push(profile.clone());
+        }
+    }
+    Ok(names)
+}

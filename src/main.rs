@@ -4,6 +4,7 @@ mod cmd_bench_predict;
 mod cmd_compare;
 mod cmd_generate;
 mod cmd_merge;
+mod cmd_plot;
 mod cmd_predict;
 mod cmd_simulate;
 mod cmd_train;
@@ -30,6 +31,8 @@ enum Command {
     Generate(cmd_generate::Args),
     /// Combine datasets of distinct scenes (e.g. the shards of a grid) into one.
     Merge(cmd_merge::Args),
+    /// Plot every scene of a dataset along y (u, phi_loc, mu, J, Theta, Delta_v) as SVG.
+    Plot(cmd_plot::Args),
     /// Compare two binned profiles: squared z-scores and relative differences per observable.
     Compare(cmd_compare::Args),
     /// Measure particle-steps per second of the force + integration loop.
@@ -60,6 +63,7 @@ fn main() -> anyhow::Result<()> {
         Command::Simulate(args) => cmd_simulate::run(args),
         Command::Generate(args) => cmd_generate::run(args),
         Command::Merge(args) => cmd_merge::run(args),
+        Command::Plot(args) => cmd_plot::run(args),
         Command::Compare(args) => cmd_compare::run(args),
         Command::Bench(args) => cmd_bench::run(args),
         Command::Train(args) => cmd_train::run(args),

@@ -181,3 +181,37 @@ fn bad_grids_are_refused_naming_the_problem() {
         assert!(stderr(&o).contains(expected), "grid {k}: {}", stderr(&o));
     }
 }
+
+#[test]
+fn plot_draws_one_figure_per_scene() {
+    let dir = temp_dir("plot");
+    let data = dir.join("tiny.csv");
+    std::fs::write(&data, whole_tiny()).unwrap();
+    let o = suspflow(&["plot", data.to_str().unwrap(), "--out", dir.join("plots").to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for k in 0..4 {
+        let svg = std::fs::read_to_string(dir.join(format!("plots/tiny_00{k}.svg"))).unwrap();
+        for q in ["phi_loc", "Delta_v", "u_inf"] {
+            assert!(svg.contains(q), "tiny_00{k}.svg lacks {q}");
+        }
+    }
+}
+
+#[test]
+fn compare_finds_a_profile_agrees_with_itself_and_not_with_another_scene() {
+    let dir = temp_dir("compare");
+    let lines: Vec<&str> = whole_tiny().lines().collect();
+    let (a, b) = (dir.join("a.csv"), dir.join("b.csv"));
+    std::fs::write(&a, format!("{}\n{}\n", lines[0], lines[1..7].join("\n"))).unwrap();
+    std::fs::write(&b, format!("{}\n{}\n", lines[0], lines[13..19].join("\n"))).unwrap();
+    let z2 = |x: &Path, y: &Path| -> f64 {
+        let o = suspflow(&["compare", x.to_str().unwrap(), y.to_str().unwrap(), "--column", "phi_loc"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = String::from_utf8_lossy(&o.stdout).into_owned();
+        let line = out.lines().find(|l| l.starts_with("phi_loc")).unwrap().to_string();
+        line.split_whitespace().nth(1).unwrap().parse().unwrap()
+    };
+    assert_eq!(z2(&a, &a), 0.0);
+    // phi = 0.45 against phi = 0.5: far beyond the noise.
+    assert!(z2(&a, &b) > 10.0, "{}", z2(&a, &b));
+}

@@ -1,0 +1,51 @@
+//! `suspflow plot DATA.csv --out DIR`: one SVG per scene of a dataset (or a `profile.csv`)
+//! with u (and u_inf), phi_loc, mu, J, Theta and Delta_v along y, each bin's value with one
+//! standard error, like the thesis' figure 6.1.
+use crate::plot::{profile_panels, Panel, Series};
+use anyhow::Context;
+use std::path::PathBuf;
+use surrogate::{Dataset, GROUP_COLUMN};
+
+/// Observables drawn, one panel each.
+const QUANTITIES: [&str; 6] = ["u", "phi_loc", "mu", "J", "Theta", "Delta_v"];
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Dataset or profile table (SPEC section 8 columns).
+    data: PathBuf,
+    /// Directory for `<scene_id>.svg`.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let data = Dataset::read_csv(&args.data)?;
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    let ids = data.text(GROUP_COLUMN)?;
+    let (profile, l_y, phi) = (data.text("profile")?, data.text("L_y")?, data.text("phi")?);
+    let (y, u_inf) = (data.column("y")?, data.column("u_inf")?);
+    let mut scenes: Vec<&String> = ids.iter().collect();
+    scenes.dedup();
+    for id in scenes {
+        let rows: Vec<usize> = (0..data.n_rows()).filter(|&r| &ids[r] == id).collect();
+        let mut panels = Vec::new();
+        for q in QUANTITIES {
+            let (v, se) = (data.column(q)?, data.column(&format!("{q}_se"))?);
+            let mut series = vec![Series {
+                name: "simulated".into(),
+                points: rows.iter().map(|&r| (y[r], v[r])).collect(),
+                errors: Some(rows.iter().map(|&r| se[r]).collect()),
+            }];
+            if q == "u" {
+                series.push(Series { name: "u_inf".into(), points: rows.iter().map(|&r| (y[r], u_inf[r])).collect(), errors: None });
+            }
+            panels.push(Panel { quantity: q.into(), series });
+        }
+        let r0 = rows[0];
+        let title = format!("{id}: u_inf = {}, L_y = {}, phi = {}", profile[r0], l_y[r0], phi[r0]);
+        let path = args.out.join(format!("{id}.svg"));
+        profile_panels(&path, &title, &panels)?;
+        println!("{}", path.display());
+    }
+    Ok(())
+}

@@ -6,6 +6,7 @@ mod cmd_generate;
 mod cmd_merge;
 mod cmd_plot;
 mod cmd_predict;
+mod cmd_report;
 mod cmd_simulate;
 mod cmd_train;
 mod cmd_validate;
@@ -13,6 +14,8 @@ mod dataset_file;
 mod plot;
 mod report;
 mod scene_work;
+mod stability_map;
+mod stability_sweep;
 
 use clap::{Parser, Subcommand};
 
@@ -33,6 +36,8 @@ enum Command {
     Merge(cmd_merge::Args),
     /// Plot every scene of a dataset along y (u, phi_loc, mu, J, Theta, Delta_v) as SVG.
     Plot(cmd_plot::Args),
+    /// Write a report (reports/<name>/report.md): so far, stability on stiff and extreme cases.
+    Report(cmd_report::Args),
     /// Compare two binned profiles: squared z-scores and relative differences per observable.
     Compare(cmd_compare::Args),
     /// Measure particle-steps per second of the force + integration loop.
@@ -64,6 +69,7 @@ fn main() -> anyhow::Result<()> {
         Command::Generate(args) => cmd_generate::run(args),
         Command::Merge(args) => cmd_merge::run(args),
         Command::Plot(args) => cmd_plot::run(args),
+        Command::Report(args) => cmd_report::run(args),
         Command::Compare(args) => cmd_compare::run(args),
         Command::Bench(args) => cmd_bench::run(args),
         Command::Train(args) => cmd_train::run(args),

@@ -38,14 +38,14 @@ pub struct Args {
 
 /// Timings of one mapping, in milliseconds.
 #[derive(Serialize)]
-struct Timing {
+pub(crate) struct Timing {
     mapping: &'static str,
     rows: usize,
     runs: usize,
     /// The first run (load + read + predict).
     first_ms: f64,
     /// Median and minimum over all runs (load + read + predict).
-    median_ms: f64,
+    pub(crate) median_ms: f64,
     min_ms: f64,
     /// Medians of the three stages.
     load_ms: f64,
@@ -92,7 +92,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// Times `repeat` end-to-end predictions of `input` by the model of `mapping` in `models`.
-fn time_mapping(mapping: &Mapping, models: &Path, input: &Path, repeat: usize) -> anyhow::Result<Timing> {
+pub(crate) fn time_mapping(mapping: &Mapping, models: &Path, input: &Path, repeat: usize) -> anyhow::Result<Timing> {
     let mut stages: Vec<[Duration; 3]> = Vec::with_capacity(repeat);
     let mut rows = 0;
     for _ in 0..repeat {

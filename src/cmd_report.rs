@@ -1,11 +1,16 @@
-//! `suspflow report`: writes `reports/<name>/report.md` with its tables and figures.
-//! Built so far: section 4, stability on stiff and extreme cases (issue 5); the other
-//! sections (error against run time, surrogate cost, side by side, Theta vs Delta_v) are
-//! still to come and are listed as such in the report.
+//! `suspflow report`: writes `reports/<name>/report.md` with its tables and figures (issue 5):
+//! 1. simulation error against run time (validation scenes against a long reference run),
+//! 2. surrogate error against training time and trees, prediction time per profile,
+//! 3. simulator and surrogate side by side, 4. stability on stiff and extreme cases,
+//! 5. Theta against Delta_v. Quick mode (default) shrinks the validation scenes' box to
+//! 8 x L_y x 8 and averages less; `--full` runs them as shipped (the README's numbers).
+use crate::convergence::{self, ConvergenceRun};
 use crate::stability_sweep::{self, SweepSize};
 use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[derive(clap::Args)]
@@ -16,68 +21,114 @@ pub struct Args {
     /// Parent directory of the reports.
     #[arg(long, default_value = "reports")]
     out: PathBuf,
-    /// Full mode: longer runs in larger boxes (the README's numbers); default is quick.
+    /// Full mode: validation scenes as shipped, longer averaging, longer stability runs.
     #[arg(long)]
     full: bool,
-    /// Sweep only these parameters (k_n, xi_min, phi, amplitude, size_ratio).
+    /// Grid of the scenes of sections 1 and 3 (the validation profiles).
+    #[arg(long, default_value = "grids/validate.toml")]
+    scenes: PathBuf,
+    /// Snapshots of the longest partial average (multiple of 4; default 256 quick, 512 full).
+    #[arg(long)]
+    partial: Option<usize>,
+    /// Snapshots of the reference average (multiple of 10; default 500 quick, 1000 full).
+    #[arg(long)]
+    reference: Option<usize>,
+    /// Training set of section 2.
+    #[arg(long, default_value = "datasets/train.csv")]
+    train: PathBuf,
+    /// Validation set of sections 2 and 5.
+    #[arg(long, default_value = "datasets/validate.csv")]
+    validate: PathBuf,
+    /// Trained models (`suspflow train --out`).
+    #[arg(long, default_value = "models")]
+    models: PathBuf,
+    /// Sweep only these parameters in section 4 (k_n, xi_min, phi, amplitude, size_ratio).
     #[arg(long)]
     only: Vec<String>,
 }
 
+/// Box edge (x and z, units a) of the validation scenes in quick mode.
+const QUICK_BOX: f64 = 8.0;
+
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let dir = args.out.join(&args.name);
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-    let size = if args.full {
-        SweepSize { window_strain: 0.25, snapshots: 100, box_edge: 10.0 }
-    } else {
-        SweepSize { window_strain: 0.05, snapshots: 20, box_edge: 8.0 }
-    };
+    let (partial, reference) = (args.partial.unwrap_or(if args.full { 512 } else { 256 }),
+        args.reference.unwrap_or(if args.full { 1000 } else { 500 }));
+    anyhow::ensure!(partial >= 8 && partial % 4 == 0, "--partial {partial}: must be a multiple of 4, at least 8");
+    anyhow::ensure!(reference >= 10 && reference % 10 == 0, "--reference {reference}: must be a multiple of 10, at least 10");
     if let Some(bad) = args.only.iter().find(|o| !stability_sweep::PARAMETERS.iter().any(|(p, _)| p == o)) {
         anyhow::bail!("--only {bad}: not a swept parameter (k_n, xi_min, phi, amplitude, size_ratio)");
     }
+    for input in [&args.train, &args.validate] {
+        anyhow::ensure!(input.is_file(), "{}: no such file (see datasets/README.md to generate it)", input.display());
+    }
+    let scenes = validation_scenes(&args.scenes, args.full)?;
+    let dir = args.out.join(&args.name);
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     let started = Instant::now();
-    eprintln!("stability sweep: {} cases ...", stability_sweep::cases(&args.only).len());
-    let results = stability_sweep::sweep(size, &args.only);
-    let sweep_s = started.elapsed().as_secs_f64();
-    crate::stability_map::draw(&dir.join("stability_map.svg"), &results)?;
-
+    let mode = if args.full { "full" } else { "quick" };
     let mut md = String::new();
-    let _ = writeln!(md, "# suspflow report `{}` ({} mode)\n", args.name, if args.full { "full" } else { "quick" });
-    let _ = writeln!(md, "Command: `suspflow report --name {}{}`; code version {}.\n", args.name,
-        if args.full { " --full" } else { "" }, sim::CODE_VERSION);
-    let _ = writeln!(md, "Sections 1-3 and 5 (simulation and surrogate error against run time, side by side, \
-        Theta vs Delta_v) are not built yet.\n");
-    let _ = writeln!(md, "## 4. Stability on stiff and extreme cases\n");
-    let _ = writeln!(md, "Base scene: phi 0.5, `0.15*sin(2*pi*y/L)`, radii 1 : 1.4, k_n 1e4, xi_min 1e-3, box {e} x {ly} x {e} \
-        (larger for large spheres); one parameter changed at a time; each case runs 4 windows of {w} strain and {s} snapshots \
-        0.01 strain apart. dt factor = multiple of the automatic step. {} cases in {sweep_s:.0} s.\n",
-        results.len(), e = size.box_edge, ly = size.box_edge * 1.5, w = size.window_strain, s = size.snapshots);
-    let _ = writeln!(md, "![stability map](stability_map.svg)\n");
-    let _ = writeln!(md, "| parameter | value | dt factor | outcome | dt | limit | max overlap / a_min | momentum residual | message names the cause |");
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
-    for r in &results {
-        let named = match r.status { "stable" | "inaccurate" => "", _ if r.cause_named => "yes", _ => "no" };
-        let _ = writeln!(md, "| {} | {} | {} | {} | {:.3e} | {} | {:.2e} | {:.4} | {} |", r.case.parameter, r.case.value,
-            r.case.dt_factor, r.status, r.dt, r.dt_limit, r.max_overlap, r.momentum_residual, named);
+    let _ = writeln!(md, "# suspflow report `{}` ({mode} mode)\n", args.name);
+    let _ = writeln!(md, "Command: `suspflow {}`; code version {}; {} threads.\n",
+        std::env::args().skip(1).collect::<Vec<_>>().join(" "), sim::CODE_VERSION, rayon::current_num_threads());
+
+    eprintln!("1/5 convergence runs of {} scenes ({partial} + {reference} snapshots after the steady state) ...", scenes.len());
+    let bar = progress_bar(scenes.len() as u64, "scenes");
+    let runs: Vec<ConvergenceRun> = scenes.par_iter().with_max_len(1)
+        .map(|s| {
+            let r = convergence::run(s, partial, reference).with_context(|| format!("scene {}", s.file.name));
+            bar.inc(1);
+            r
+        })
+        .collect::<anyhow::Result<_>>()?;
+    bar.finish_and_clear();
+    let section1 = crate::convergence_report::section(&runs, &dir)?;
+    eprintln!("2/5 surrogate error against training time ...");
+    let section2 = crate::surrogate_cost::section(&args.train, &args.validate, &args.models, &dir)?;
+    eprintln!("3/5 side by side ...");
+    let section3 = crate::side_by_side::markdown(&crate::side_by_side::compare(&runs, &args.models, &dir)?);
+    let size = if args.full {
+        SweepSize { window_strain: 0.1, snapshots: 50, box_edge: 10.0 }
+    } else {
+        SweepSize { window_strain: 0.05, snapshots: 20, box_edge: 8.0 }
+    };
+    let cases = stability_sweep::cases(&args.only);
+    eprintln!("4/5 stability sweep: {} cases ...", cases.len());
+    let sweep_started = Instant::now();
+    let bar = progress_bar(cases.len() as u64, "cases");
+    let results = stability_sweep::sweep(cases, size, &|| bar.inc(1));
+    bar.finish_and_clear();
+    let section4 = crate::stability_map::section(&results, size, sweep_started.elapsed().as_secs_f64(), &dir)?;
+    eprintln!("5/5 Theta against Delta_v ...");
+    let section5 = crate::descriptor_noise::section(&args.validate, &args.models, &dir)?;
+    for s in [section1, section2, section3, section4, section5] {
+        md.push_str(&s);
     }
-    let auto_failures: Vec<&stability_sweep::CaseResult> =
-        results.iter().filter(|r| r.case.dt_factor <= 1.0 && r.status != "stable").collect();
-    let silent = results.iter()
-        .filter(|r| matches!(r.status, "stable" | "inaccurate") && !(r.momentum_residual.is_finite() && r.max_overlap.is_finite()))
-        .count();
-    let inaccurate = results.iter().filter(|r| r.status == "inaccurate").count();
-    let _ = writeln!(md, "\nAt the automatic dt and half of it: {} of {} cases unstable. Above it: {} of {} failed, {} of the failures \
-        with a message naming step, particle and cause. Finished with a momentum residual above {}: {inaccurate}. \
-        Finished runs with a non-finite result: {silent}.\n",
-        auto_failures.len(), results.iter().filter(|r| r.case.dt_factor <= 1.0).count(),
-        results.iter().filter(|r| r.case.dt_factor > 1.0 && !matches!(r.status, "stable" | "inaccurate")).count(),
-        results.iter().filter(|r| r.case.dt_factor > 1.0).count(),
-        results.iter().filter(|r| r.status != "stable" && r.cause_named).count(), stability_sweep::INACCURATE_RESIDUAL);
-    for r in results.iter().filter(|r| !matches!(r.status, "stable" | "inaccurate")) {
-        let _ = writeln!(md, "- {} = {}, dt x {}: {}", r.case.parameter, r.case.value, r.case.dt_factor, r.message);
-    }
+    let _ = writeln!(md, "Report written in {:.0} s.", started.elapsed().as_secs_f64());
     let path = dir.join("report.md");
     sim::checkpoint::write_atomic(&path, md.as_bytes())?;
     println!("{}", path.display());
     Ok(())
+}
+
+/// The scenes of `grid`; in quick mode with the box shrunk to [`QUICK_BOX`] across.
+fn validation_scenes(grid: &Path, full: bool) -> anyhow::Result<Vec<sim::scene::Scene>> {
+    let grid = sim::grid::Grid::from_path(grid, false)?;
+    grid.scenes.into_iter().map(|g| {
+        let mut file = g.scene.file.clone();
+        file.name = g.id.clone();
+        if !full {
+            file.box_.l_x = file.box_.l_x.min(QUICK_BOX);
+            file.box_.l_z = file.box_.l_z.min(QUICK_BOX);
+        }
+        Ok(sim::scene::Scene::from_file(file, false)?)
+    }).collect()
+}
+
+/// A progress bar over `n` items, drawn only on a terminal.
+fn progress_bar(n: u64, what: &str) -> ProgressBar {
+    let bar = ProgressBar::new(n);
+    if let Ok(style) = ProgressStyle::with_template(&format!("{{bar:30}} {{pos}}/{{len}} {what} {{elapsed}}")) {
+        bar.set_style(style);
+    }
+    bar
 }

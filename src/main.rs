@@ -10,12 +10,18 @@ mod cmd_report;
 mod cmd_simulate;
 mod cmd_train;
 mod cmd_validate;
+mod convergence;
+mod convergence_report;
 mod dataset_file;
+mod descriptor_noise;
+mod loglog_plot;
 mod plot;
 mod report;
 mod scene_work;
+mod side_by_side;
 mod stability_map;
 mod stability_sweep;
+mod surrogate_cost;
 
 use clap::{Parser, Subcommand};
 
@@ -36,7 +42,8 @@ enum Command {
     Merge(cmd_merge::Args),
     /// Plot every scene of a dataset along y (u, phi_loc, mu, J, Theta, Delta_v) as SVG.
     Plot(cmd_plot::Args),
-    /// Write a report (reports/<name>/report.md): so far, stability on stiff and extreme cases.
+    /// Write a report (reports/<name>/report.md): simulation and surrogate error against run time,
+    /// side by side, stability on stiff and extreme cases, Theta against Delta_v.
     Report(cmd_report::Args),
     /// Compare two binned profiles: squared z-scores and relative differences per observable.
     Compare(cmd_compare::Args),

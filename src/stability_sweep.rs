@@ -124,7 +124,12 @@ fn run_case(case: Case, size: SweepSize) -> CaseResult {
     result
 }
 
-/// Runs every case, in parallel over cases (each case on one thread), in case order.
-pub fn sweep(size: SweepSize, only: &[String]) -> Vec<CaseResult> {
-    cases(only).into_par_iter().with_max_len(1).map(|c| run_case(c, size)).collect()
+/// Runs `cases`, in parallel over cases (each case on one thread), in case order, calling
+/// `done` after each.
+pub fn sweep(cases: Vec<Case>, size: SweepSize, done: &(dyn Fn() + Sync)) -> Vec<CaseResult> {
+    cases.into_par_iter().with_max_len(1).map(|c| {
+        let r = run_case(c, size);
+        done();
+        r
+    }).collect()
 }

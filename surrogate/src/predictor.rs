@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use ndarray::Array2;
+use ndarray::{Array2, ArrayView2};
 
 use crate::dataset::Dataset;
 use crate::error::Result;
@@ -38,9 +38,13 @@ impl Predictor {
 
     /// Predictions in original units (rows x outputs) for the feature columns of `dataset`.
     pub fn predict(&self, dataset: &Dataset) -> Result<Array2<f64>> {
-        let scaled = self
-            .forest
-            .predict(self.meta.feature_matrix(dataset)?.view())?;
+        self.predict_features(self.meta.feature_matrix(dataset)?.view())
+    }
+
+    /// Predictions in original units for a rows x features matrix, columns in
+    /// [`ModelMeta::features`] order.
+    pub fn predict_features(&self, features: ArrayView2<f64>) -> Result<Array2<f64>> {
+        let scaled = self.forest.predict(features)?;
         self.meta.scaling.unscale(scaled.view())
     }
 }

@@ -1,0 +1,70 @@
+//! Log-log line charts as SVG (error against run length, wall time or training time), with
+//! an optional guide line of a given slope (e.g. -1/2 for a statistical error falling as
+//! 1/sqrt(time)).
+use anyhow::Context;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// One named line of `(x, y)` points; points with a non-positive or non-finite member are skipped.
+pub struct Line {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+const COLOURS: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+];
+
+/// Draws `lines` on log-log axes to the SVG file `path`; `guide` adds a dashed grey line of
+/// that slope through the first point of the first line.
+pub fn draw(path: &Path, title: &str, axes: (&str, &str), lines: &[Line], guide: Option<f64>) -> anyhow::Result<()> {
+    draw_inner(path, title, axes, lines, guide).with_context(|| format!("drawing {}", path.display()))
+}
+
+fn usable(lines: &[Line]) -> impl Iterator<Item = (f64, f64)> + '_ {
+    lines.iter().flat_map(|l| l.points.iter().copied()).filter(|&(x, y)| x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite())
+}
+
+fn draw_inner(path: &Path, title: &str, (x_label, y_label): (&str, &str), lines: &[Line], guide: Option<f64>) -> anyhow::Result<()> {
+    let bounds = |f: fn((f64, f64)) -> f64| {
+        let (lo, hi) = usable(lines).map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+        if lo > hi { (0.1, 10.0) } else { (lo / 1.5, hi * 1.5) }
+    };
+    let (x0, x1) = bounds(|p| p.0);
+    let (y0, y1) = bounds(|p| p.1);
+    let root = SVGBackend::new(path, (760, 520)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(14)
+        .x_label_area_size(44)
+        .y_label_area_size(64)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+    chart.configure_mesh().x_desc(x_label).y_desc(y_label).draw()?;
+    for (i, line) in lines.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        let pts: Vec<(f64, f64)> = usable(std::slice::from_ref(line)).collect();
+        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+        chart
+            .draw_series(LineSeries::new(pts, colour.stroke_width(2)))?
+            .label(line.name.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+    }
+    if let (Some(slope), Some((gx, gy))) = (guide, usable(lines).next()) {
+        let ends = [x0, x1].map(|x| (x, gy * (x / gx).powf(slope)));
+        chart
+            .draw_series(DashedLineSeries::new(ends, 6, 4, RGBColor(120, 120, 120).stroke_width(1)))?
+            .label(format!("slope {slope}"))
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RGBColor(120, 120, 120)));
+    }
+    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+    root.present()?;
+    Ok(())
+}

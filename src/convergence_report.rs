@@ -1,7 +1,7 @@
 //! Section 1 of the report: simulation error against run length and wall time, as a
 //! table per scene and two log-log figures (`sim_error_vs_strain.svg`,
 //! `sim_error_vs_wall.svg`).
-use crate::convergence::{log_slope, noise_constant, ConvergenceRun, OBSERVABLES};
+use crate::convergence::{decorrelated_slope, log_slope, noise_constant, ConvergenceRun, DECORRELATED_STRAIN, OBSERVABLES};
 use crate::loglog_plot::{self, Line};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -35,10 +35,13 @@ pub fn section(runs: &[ConvergenceRun], dir: &Path) -> anyhow::Result<String> {
         md.push('\n');
         for (k, name) in OBSERVABLES.iter().enumerate() {
             let points: Vec<(f64, f64)> = run.partials.iter().map(|p| (p.snapshots as f64, p.error[k])).collect();
-            let c = noise_constant(&points, run.reference_snapshots as f64);
-            let _ = writeln!(md, "- {name}: log-log slope of error against n {:.2} (1/sqrt: -0.5); noise law fit \
-                sqrt(c) = {:.3}, so 1 % needs n = {:.0} snapshots; reference's own noise sqrt(c/R) = {:.2} %.",
-                log_slope(&points), c.sqrt(), c / 1e-4, 100.0 * (c / run.reference_snapshots as f64).sqrt());
+            let last = run.partials.last().expect("a convergence run has partial profiles");
+            let c = noise_constant(last.snapshots as f64, last.error[k], run.reference_snapshots as f64);
+            let _ = writeln!(md, "- {name}: log-log slope of error against n {:.2} over all n, {:.2} over averages of at least \
+                {DECORRELATED_STRAIN} strain with the reference's noise taken out (1/sqrt: -0.5); noise law through the longest \
+                average: sqrt(c) = {:.3}, so 1 % would need n = {:.0} snapshots ({:.0} strain); reference's own noise sqrt(c/R) = {:.2} %.",
+                log_slope(&points), decorrelated_slope(run, k), c.sqrt(), c / 1e-4,
+                c / 1e-4 * run.scene.file.run.sample_strain, 100.0 * (c / run.reference_snapshots as f64).sqrt());
             by_strain.push(Line { name: format!("{id} {name}"), points: run.partials.iter().map(|p| (p.averaging_strain, p.error[k])).collect() });
             by_wall.push(Line { name: format!("{id} {name}"), points: run.partials.iter().map(|p| (p.wall_s, p.error[k])).collect() });
         }

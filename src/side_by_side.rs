@@ -3,7 +3,8 @@
 //! outputs scaled with the model's training ranges, eq 6.6) and its end-to-end time per
 //! profile, and the shortest simulation, equilibration included, whose profile is as
 //! close to the same reference in the same metric: measured among the partial runs when
-//! one gets there, else extrapolated with `error^2 = c (1/n + 1/reference)`.
+//! one gets there, else extrapolated from the longest
+//! with `error^2 = c (1/n + 1/reference)`.
 use crate::cmd_bench_predict::time_mapping;
 use crate::convergence::{column, noise_constant, relative_l2, ConvergenceRun};
 use anyhow::Context;
@@ -84,12 +85,13 @@ fn simulation_cost(run: &ConvergenceRun, output: &str, min: f64, target: f64) ->
         return SimulationCost::Measured(p.snapshots, strain_at(p.snapshots as f64), p.wall_s);
     }
     let r = run.reference_snapshots as f64;
-    let c = noise_constant(&points, r);
+    let (last, &(n_last, e_last)) = (run.partials.last().expect("a convergence run has partial profiles"),
+        points.last().expect("one error per partial profile"));
+    let c = noise_constant(n_last, e_last, r);
     let inverse_n = target * target / c - 1.0 / r;
     if inverse_n <= 0.0 {
         return SimulationCost::BelowReferenceNoise((c / r).sqrt());
     }
-    let last = run.partials.last().expect("a convergence run has partial profiles");
     let wall_per_snapshot = (last.wall_s - run.wall_to_steady_s) / last.snapshots as f64;
     let n = 1.0 / inverse_n;
     SimulationCost::Extrapolated(n, strain_at(n), run.wall_to_steady_s + n * wall_per_snapshot)
@@ -102,7 +104,8 @@ pub fn markdown(rows: &[Row]) -> String {
         (relative L2 on outputs scaled with the training ranges, eq 6.6, with the reference run's own J, Theta or \
         Delta_v and phi as inputs) and its time per profile (load model + read CSV + predict, median of 20), next to \
         the shortest simulation from rest whose profile is as close to the same reference in the same metric. \
-        The surrogate's time does not include obtaining its inputs.\n\n");
+        A simulation marked extrapolated did not reach the error within the partial averages; its length follows from the \
+        noise law `c (1/n + 1/R)` through the longest one. The surrogate's time does not include obtaining its inputs.\n\n");
     md.push_str("| profile | mapping: output | surrogate error | surrogate time | simulation to the same error | simulation wall time |\n|---|---|---|---|---|---|\n");
     for r in rows {
         let (run, wall) = match r.simulation {

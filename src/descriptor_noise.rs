@@ -78,19 +78,34 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
     let y = data.column("y")?;
     let mut panels: Vec<Panel> = ["Theta", "Delta_v", "Theta SE / Theta", "Delta_v SE / Delta_v"].iter()
         .map(|q| Panel { quantity: q.to_string(), series: Vec::new() }).collect();
+    let mut notes = Vec::new();
     for id in unique {
         let rows: Vec<usize> = (0..ids.len()).filter(|&r| &ids[r] == id).collect();
+        let mut medians = [f64::NAN; 2];
         for (d, name) in ["Theta", "Delta_v"].iter().enumerate() {
             let pick = |c: &str| -> anyhow::Result<Vec<f64>> { let col = data.column(c)?; Ok(rows.iter().map(|&r| col[r]).collect()) };
             let (v, se) = (pick(name)?, pick(&format!("{name}_se"))?);
             let s = stats(&v, &se);
+            medians[d] = s.median_relative_se;
             let _ = writeln!(md, "| {id} | {name} | {:.2} | {:.2} % | {:.1} % | {:.1} |", s.variation,
                 100.0 * s.median_relative_se, 100.0 * s.max_relative_se, s.signal_to_noise);
             let ys: Vec<f64> = rows.iter().map(|&r| y[r]).collect();
             panels[d].series.push(Series { name: id.clone(), points: ys.iter().copied().zip(v.iter().copied()).collect(), errors: Some(se.clone()) });
             panels[d + 2].series.push(Series { name: id.clone(), points: ys.iter().zip(v.iter().zip(&se)).map(|(&y, (v, s))| (y, s / v.abs())).collect(), errors: None });
         }
+        let (u_inf, dv, dv_se) = (data.column("u_inf")?, data.column("Delta_v")?, data.column("Delta_v_se")?);
+        let worst = rows.iter().copied().filter(|&r| (dv_se[r] / dv[r].abs()).is_finite())
+            .max_by(|&a, &b| (dv_se[a] / dv[a].abs()).total_cmp(&(dv_se[b] / dv[b].abs())));
+        let u_max = rows.iter().map(|&r| u_inf[r].abs()).fold(0.0, f64::max);
+        let at = worst.map_or(String::new(), |r| format!(" Its noisiest bin is at y = {:.0}, where |u_inf| = {:.3} \
+            (largest |u_inf| {u_max:.3}): Delta_v divides by |u_inf|.", y[r], u_inf[r].abs()));
+        notes.push(format!("- {id}: Delta_v's median relative standard error is {:.1} times Theta's, so the same relative \
+            precision takes {:.1} times the averaging.{at}", medians[1] / medians[0], (medians[1] / medians[0]).powi(2)));
     }
+    md.push('\n');
+    md.push_str(&notes.join("\n"));
+    md.push_str("\n\nDelta_v needs only the mean velocity profile (e.g. from PIV in an experiment), Theta the velocity \
+        fluctuations of individual particles; the table shows what each costs in averaging time in a simulation.\n");
     profile_panels(&dir.join("descriptors_along_y.svg"), "Theta and Delta_v along y (validation profiles, 1 SE bars)", &panels)?;
     md.push_str("\n![Theta and Delta_v along y](descriptors_along_y.svg)\n\n");
     Ok(md)

@@ -47,7 +47,8 @@ fn draw_inner(path: &Path, title: &str, (x_label, y_label): (&str, &str), lines:
         .x_label_area_size(44)
         .y_label_area_size(64)
         .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
-    chart.configure_mesh().x_desc(x_label).y_desc(y_label).draw()?;
+    chart.configure_mesh().x_desc(x_label).y_desc(y_label)
+        .x_label_formatter(&|v| tick(*v)).y_label_formatter(&|v| tick(*v)).draw()?;
     for (i, line) in lines.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         let pts: Vec<(f64, f64)> = usable(std::slice::from_ref(line)).collect();
@@ -67,4 +68,26 @@ fn draw_inner(path: &Path, title: &str, (x_label, y_label): (&str, &str), lines:
     chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
     root.present()?;
     Ok(())
+}
+
+/// A tick label with at most three significant digits, e.g. `0.3`, `150`, `2e-5`.
+fn tick(v: f64) -> String {
+    if (1e-3..1e5).contains(&v.abs()) {
+        let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+        let s = format!("{v:.digits$}");
+        if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn ticks_are_short() {
+        assert_eq!(super::tick(0.30000000000000004), "0.3");
+        assert_eq!(super::tick(150.0), "150");
+        assert_eq!(super::tick(0.0123456), "0.0123");
+        assert_eq!(super::tick(2e-5), "2e-5");
+    }
 }

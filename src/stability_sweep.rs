@@ -32,6 +32,7 @@ pub struct CaseResult {
     /// `blow-up`, `not steady`, `refused` (invalid scene or packing).
     pub status: &'static str,
     pub dt: f64,
+    /// What limits dt, with the smallest critical step, e.g. `lubrication (8.83e-4)`.
     pub dt_limit: String,
     pub max_overlap: f64,
     pub momentum_residual: f64,
@@ -104,7 +105,8 @@ fn run_case(case: Case, size: SweepSize) -> CaseResult {
         }
     };
     let t = sim::timestep::TimeStep::for_scene(&scene);
-    (result.dt, result.dt_limit) = (t.dt, t.limit.to_string());
+    let critical = t.contact_critical.min(t.drag_critical).min(t.lubrication_critical);
+    (result.dt, result.dt_limit) = (t.dt, format!("{} ({critical:.2e})", t.limit));
     match sim::run::run(&scene, &RunOptions::default(), &mut |_, _| {}) {
         Ok(out) => {
             result.max_overlap = out.summary.max_overlap;

@@ -31,7 +31,13 @@ pub struct Row {
     /// Median end-to-end time (load model, read profile CSV, predict), ms.
     pub surrogate_ms: f64,
     pub simulation: SimulationCost,
+    /// The reference's own noise in the same metric, `sqrt(c / reference)`.
+    pub reference_noise: f64,
 }
+
+/// A surrogate error below this multiple of the reference's noise is mostly that noise:
+/// the simulation length that matches it is uncertain by a large factor.
+const NEAR_NOISE: f64 = 1.25;
 
 /// Writes each run's reference profile to `dir/reference_<scene>.csv` and compares the
 /// models in `models` with the simulation on it.
@@ -50,13 +56,15 @@ pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Re
             let ms = time_mapping(mapping, models, &path, 20)?.median_ms;
             for (k, &output) in mapping.outputs.iter().enumerate() {
                 let min = model.meta().scaling.ranges[k].min;
+                let (simulation, reference_noise) = simulation_cost(run, output, min, errors[k]);
                 rows.push(Row {
                     scene_id: id.clone(),
                     mapping: mapping.name,
                     output,
                     surrogate_error: errors[k],
                     surrogate_ms: ms,
-                    simulation: simulation_cost(run, output, min, errors[k]),
+                    simulation,
+                    reference_noise,
                 });
             }
         }
@@ -74,50 +82,55 @@ fn surrogate_errors(model: &Predictor, mapping: &Mapping, data: &Dataset) -> any
 }
 
 /// The shortest run of `run`'s scene whose `output` profile is within `target` of the
-/// reference, in the scaled metric (offset `min`, the training minimum).
-fn simulation_cost(run: &ConvergenceRun, output: &str, min: f64, target: f64) -> SimulationCost {
+/// reference, in the scaled metric (offset `min`, the training minimum), and the
+/// reference's own noise in that metric.
+fn simulation_cost(run: &ConvergenceRun, output: &str, min: f64, target: f64) -> (SimulationCost, f64) {
     let reference = column(&run.reference.mean, output);
     let points: Vec<(f64, f64)> = run.partials.iter()
         .map(|p| (p.snapshots as f64, relative_l2(column(&p.profile.mean, output), reference, min)))
         .collect();
     let strain_at = |n: f64| run.summary.strain_to_steady + n * run.scene.file.run.sample_strain;
-    if let Some((p, _)) = run.partials.iter().zip(&points).find(|(_, (_, e))| *e <= target) {
-        return SimulationCost::Measured(p.snapshots, strain_at(p.snapshots as f64), p.wall_s);
-    }
     let r = run.reference_snapshots as f64;
     let (last, &(n_last, e_last)) = (run.partials.last().expect("a convergence run has partial profiles"),
         points.last().expect("one error per partial profile"));
     let c = noise_constant(n_last, e_last, r);
+    let floor = (c / r).sqrt();
+    if let Some((p, _)) = run.partials.iter().zip(&points).find(|(_, (_, e))| *e <= target) {
+        return (SimulationCost::Measured(p.snapshots, strain_at(p.snapshots as f64), p.wall_s), floor);
+    }
     let inverse_n = target * target / c - 1.0 / r;
     if inverse_n <= 0.0 {
-        return SimulationCost::BelowReferenceNoise((c / r).sqrt());
+        return (SimulationCost::BelowReferenceNoise(floor), floor);
     }
     let wall_per_snapshot = (last.wall_s - run.wall_to_steady_s) / last.snapshots as f64;
     let n = 1.0 / inverse_n;
-    SimulationCost::Extrapolated(n, strain_at(n), run.wall_to_steady_s + n * wall_per_snapshot)
+    (SimulationCost::Extrapolated(n, strain_at(n), run.wall_to_steady_s + n * wall_per_snapshot), floor)
 }
 
 /// Section 3 of the report.
 pub fn markdown(rows: &[Row]) -> String {
     let mut md = String::from("## 3. Side by side\n\n");
-    md.push_str("For each validation profile: the surrogate's error against the long reference run of section 1 \
+    let _ = write!(md, "For each validation profile: the surrogate's error against the long reference run of section 1 \
         (relative L2 on outputs scaled with the training ranges, eq 6.6, with the reference run's own J, Theta or \
         Delta_v and phi as inputs) and its time per profile (load model + read CSV + predict, median of 20), next to \
         the shortest simulation from rest whose profile is as close to the same reference in the same metric. \
         A simulation marked extrapolated did not reach the error within the partial averages; its length follows from the \
-        noise law `c (1/n + 1/R)` through the longest one. The surrogate's time does not include obtaining its inputs.\n\n");
+        noise law `c (1/n + 1/R)` through the longest one. Where the surrogate's error is below {NEAR_NOISE} times the \
+        reference's own noise `sqrt(c/R)`, most of it is that noise, and the matching simulation length is uncertain by a \
+        large factor (marked uncertain). The surrogate's time does not include obtaining its inputs.\n\n");
     md.push_str("| profile | mapping: output | surrogate error | surrogate time | simulation to the same error | simulation wall time |\n|---|---|---|---|---|---|\n");
     for r in rows {
+        let uncertain = if near_noise(r) { format!("; uncertain: reference noise {:.2} %", 100.0 * r.reference_noise) } else { String::new() };
         let (run, wall) = match r.simulation {
-            SimulationCost::Measured(n, strain, wall) => (format!("{n} snapshots, strain {strain:.1} (measured)"), minutes(wall)),
-            SimulationCost::Extrapolated(n, strain, wall) => (format!("{n:.0} snapshots, strain {strain:.1} (extrapolated)"), minutes(wall)),
+            SimulationCost::Measured(n, strain, wall) => (format!("{n} snapshots, strain {strain:.1} (measured{uncertain})"), minutes(wall)),
+            SimulationCost::Extrapolated(n, strain, wall) => (format!("{n:.0} snapshots, strain {strain:.1} (extrapolated{uncertain})"), minutes(wall)),
             SimulationCost::BelowReferenceNoise(floor) => (format!("not measurable: below the reference's own noise {:.2} %", 100.0 * floor), "-".into()),
         };
         let _ = writeln!(md, "| {} | {}: {} | {:.2} % | {:.1} ms | {run} | {wall} |", r.scene_id, r.mapping, r.output,
             100.0 * r.surrogate_error, r.surrogate_ms);
     }
     md.push('\n');
-    for r in rows.iter().filter(|r| r.mapping == "theta") {
+    for r in rows.iter().filter(|r| r.mapping == "theta" && !near_noise(r)) {
         if let SimulationCost::Measured(_, _, wall) | SimulationCost::Extrapolated(_, _, wall) = r.simulation {
             let _ = writeln!(md, "- {}: the surrogate gives {:.1} % error on {} in {:.1} ms where the simulator needs {}.",
                 r.scene_id, 100.0 * r.surrogate_error, r.output, r.surrogate_ms, minutes(wall));
@@ -125,6 +138,11 @@ pub fn markdown(rows: &[Row]) -> String {
     }
     md.push('\n');
     md
+}
+
+/// Whether `r`'s surrogate error is mostly the reference's own noise.
+fn near_noise(r: &Row) -> bool {
+    r.surrogate_error < NEAR_NOISE * r.reference_noise
 }
 
 /// A wall time in seconds, as minutes when over two minutes, e.g. `48 s`, `3.2 min`.

@@ -1,6 +1,7 @@
 //! Log-log line charts as SVG (error against run length, wall time or training time), with
 //! an optional guide line of a given slope (e.g. -1/2 for a statistical error falling as
 //! 1/sqrt(time)).
+use crate::plot::COLOURS;
 use anyhow::Context;
 use plotters::prelude::*;
 use std::path::Path;
@@ -10,17 +11,6 @@ pub struct Line {
     pub name: String,
     pub points: Vec<(f64, f64)>,
 }
-
-const COLOURS: [RGBColor; 8] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(255, 127, 14),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(23, 190, 207),
-];
 
 /// Draws `lines` on log-log axes to the SVG file `path`; `guide` adds a dashed grey line of
 /// that slope through the first point of the first line.

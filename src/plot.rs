@@ -34,13 +34,15 @@ const HEIGHT: u32 = 560;
 const LEGEND_HEIGHT: u32 = 30;
 
 /// Series colours, in order of first appearance in the figure (then again from the start).
-const COLOURS: [RGBColor; 6] = [
+pub(crate) const COLOURS: [RGBColor; 8] = [
     RGBColor(0, 0, 0),
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
     RGBColor(44, 160, 44),
     RGBColor(255, 127, 14),
     RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(23, 190, 207),
 ];
 
 /// Writes `panels` side by side under `title` to the SVG file `path`.

@@ -105,22 +105,18 @@ pub(crate) fn time_mapping(mapping: &Mapping, models: &Path, input: &Path, repea
         stages.push([loaded - started, read - loaded, read.elapsed()]);
     }
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
-    let median = |stage: &dyn Fn(&[Duration; 3]) -> Duration| {
-        let mut values: Vec<f64> = stages.iter().map(|s| ms(stage(s))).collect();
-        values.sort_by(f64::total_cmp);
-        values[values.len() / 2]
-    };
+    let stage_median = |stage: &dyn Fn(&[Duration; 3]) -> Duration| median(stages.iter().map(|s| ms(stage(s))).collect());
     let total = |s: &[Duration; 3]| s[0] + s[1] + s[2];
     Ok(Timing {
         mapping: mapping.name,
         rows,
         runs: repeat,
         first_ms: ms(total(&stages[0])),
-        median_ms: median(&total),
+        median_ms: stage_median(&total),
         min_ms: stages.iter().map(|s| ms(total(s))).fold(f64::INFINITY, f64::min),
-        load_ms: median(&|s| s[0]),
-        read_ms: median(&|s| s[1]),
-        predict_ms: median(&|s| s[2]),
+        load_ms: stage_median(&|s| s[0]),
+        read_ms: stage_median(&|s| s[1]),
+        predict_ms: stage_median(&|s| s[2]),
     })
 }
 
@@ -141,4 +137,11 @@ fn write_synthetic_profile(rows: usize) -> anyhow::Result<PathBuf> {
     let path = std::env::temp_dir().join(format!("suspflow-bench-predict-{}.csv", std::process::id()));
     std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
     Ok(path)
+}
+
+/// The median of `values` (the upper one of the middle two for an even count); `values` is
+/// not empty.
+pub(crate) fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
 }

@@ -3,7 +3,7 @@
 //! tuned hyper-parameters (read from the models' sidecars) and only the number of boosting
 //! rounds changed, and validated on the unseen profiles (relative L2, eq 6.6, all profiles
 //! together); the shipped models are timed predicting one validation profile end to end.
-use crate::cmd_bench_predict::time_mapping;
+use crate::cmd_bench_predict::{median, time_mapping};
 use crate::loglog_plot::{self, Line};
 use anyhow::Context;
 use std::fmt::Write as _;
@@ -67,8 +67,7 @@ fn timed_fit(mapping: &surrogate::Mapping, data: &Dataset, params: &surrogate::H
         model = Some(TrainedModel::train(mapping, data, params)?);
         times.push(started.elapsed().as_secs_f64() * 1e3);
     }
-    times.sort_by(f64::total_cmp);
-    Ok((model.context("no fit")?, times[FITS / 2]))
+    Ok((model.context("no fit")?, median(times)))
 }
 
 /// Median end-to-end prediction time (load + read + predict, 20 runs) of each shipped model

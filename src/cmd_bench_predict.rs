@@ -92,7 +92,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// Times `repeat` end-to-end predictions of `input` by the model of `mapping` in `models`.
-pub(crate) fn time_mapping(mapping: &Mapping, models: &Path, input: &Path, repeat: usize) -> anyhow::Result<Timing> {
+pub(crate) fn time_mapping(
+    mapping: &Mapping,
+    models: &Path,
+    input: &Path,
+    repeat: usize,
+) -> anyhow::Result<Timing> {
     let mut stages: Vec<[Duration; 3]> = Vec::with_capacity(repeat);
     let mut rows = 0;
     for _ in 0..repeat {
@@ -105,7 +110,9 @@ pub(crate) fn time_mapping(mapping: &Mapping, models: &Path, input: &Path, repea
         stages.push([loaded - started, read - loaded, read.elapsed()]);
     }
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
-    let stage_median = |stage: &dyn Fn(&[Duration; 3]) -> Duration| median(stages.iter().map(|s| ms(stage(s))).collect());
+    let stage_median = |stage: &dyn Fn(&[Duration; 3]) -> Duration| {
+        median(stages.iter().map(|s| ms(stage(s))).collect())
+    };
     let total = |s: &[Duration; 3]| s[0] + s[1] + s[2];
     Ok(Timing {
         mapping: mapping.name,
@@ -113,7 +120,10 @@ pub(crate) fn time_mapping(mapping: &Mapping, models: &Path, input: &Path, repea
         runs: repeat,
         first_ms: ms(total(&stages[0])),
         median_ms: stage_median(&total),
-        min_ms: stages.iter().map(|s| ms(total(s))).fold(f64::INFINITY, f64::min),
+        min_ms: stages
+            .iter()
+            .map(|s| ms(total(s)))
+            .fold(f64::INFINITY, f64::min),
         load_ms: stage_median(&|s| s[0]),
         read_ms: stage_median(&|s| s[1]),
         predict_ms: stage_median(&|s| s[2]),
@@ -132,9 +142,13 @@ fn write_synthetic_profile(rows: usize) -> anyhow::Result<PathBuf> {
         let shear = (2.0 * std::f64::consts::PI * y / l_y).cos().abs();
         let (j, phi_loc) = (1e-4 + 0.05 * shear, 0.58 - 0.06 * shear);
         let (theta, delta_v) = (0.01 + 0.05 * shear, 0.2 + 0.5 * (1.0 - shear));
-        writeln!(csv, "bench,0.1*sin(2*pi*y/L),{y},{j},{phi_loc},{theta},{delta_v},0.54")?;
+        writeln!(
+            csv,
+            "bench,0.1*sin(2*pi*y/L),{y},{j},{phi_loc},{theta},{delta_v},0.54"
+        )?;
     }
-    let path = std::env::temp_dir().join(format!("suspflow-bench-predict-{}.csv", std::process::id()));
+    let path =
+        std::env::temp_dir().join(format!("suspflow-bench-predict-{}.csv", std::process::id()));
     std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
     Ok(path)
 }

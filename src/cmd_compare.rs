@@ -6,7 +6,9 @@ use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 
 /// Observables compared by default.
-const DEFAULT_COLUMNS: [&str; 9] = ["u", "sigma_xy", "P", "phi_loc", "J", "mu", "Theta", "Delta_v", "f_x"];
+const DEFAULT_COLUMNS: [&str; 9] = [
+    "u", "sigma_xy", "P", "phi_loc", "J", "mu", "Theta", "Delta_v", "f_x",
+];
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -27,25 +29,47 @@ struct Table {
 
 impl Table {
     fn read(path: &Path) -> anyhow::Result<Table> {
-        let mut reader = csv::Reader::from_path(path).with_context(|| format!("reading {}", path.display()))?;
-        let names = reader.headers().with_context(|| format!("reading {}", path.display()))?.iter().map(String::from).collect();
-        let rows = reader.records().map(|r| r.map(|r| r.iter().map(String::from).collect()))
-            .collect::<Result<Vec<Vec<String>>, _>>().with_context(|| format!("reading {}", path.display()))?;
+        let mut reader =
+            csv::Reader::from_path(path).with_context(|| format!("reading {}", path.display()))?;
+        let names = reader
+            .headers()
+            .with_context(|| format!("reading {}", path.display()))?
+            .iter()
+            .map(String::from)
+            .collect();
+        let rows = reader
+            .records()
+            .map(|r| r.map(|r| r.iter().map(String::from).collect()))
+            .collect::<Result<Vec<Vec<String>>, _>>()
+            .with_context(|| format!("reading {}", path.display()))?;
         Ok(Table { names, rows })
     }
 
     /// The column `name` (empty cells are NaN: undefined in that bin).
     fn column(&self, name: &str, path: &Path) -> anyhow::Result<Vec<f64>> {
-        let c = self.names.iter().position(|n| n == name)
+        let c = self
+            .names
+            .iter()
+            .position(|n| n == name)
             .with_context(|| format!("{} has no column `{name}`", path.display()))?;
-        self.rows.iter().enumerate().map(|(k, r)| {
-            let cell = r.get(c).map(String::as_str).unwrap_or("");
-            if cell.is_empty() {
-                Ok(f64::NAN)
-            } else {
-                cell.parse().with_context(|| format!("{} row {}, column `{name}`: `{cell}` is not a number", path.display(), k + 1))
-            }
-        }).collect()
+        self.rows
+            .iter()
+            .enumerate()
+            .map(|(k, r)| {
+                let cell = r.get(c).map(String::as_str).unwrap_or("");
+                if cell.is_empty() {
+                    Ok(f64::NAN)
+                } else {
+                    cell.parse().with_context(|| {
+                        format!(
+                            "{} row {}, column `{name}`: `{cell}` is not a number",
+                            path.display(),
+                            k + 1
+                        )
+                    })
+                }
+            })
+            .collect()
     }
 }
 
@@ -71,26 +95,62 @@ pub fn agreement(a: &[f64], sa: &[f64], b: &[f64], sb: &[f64]) -> Agreement {
             bins += 1;
         }
     }
-    Agreement { z2: z2 / bins.max(1) as f64, rel_l2: (diff2 / norm2).sqrt(), bins }
+    Agreement {
+        z2: z2 / bins.max(1) as f64,
+        rel_l2: (diff2 / norm2).sqrt(),
+        bins,
+    }
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let (ta, tb) = (Table::read(&args.a)?, Table::read(&args.b)?);
     if ta.rows.len() != tb.rows.len() {
-        bail!("{} has {} bins and {} has {}: not the same geometry", args.a.display(), ta.rows.len(), args.b.display(), tb.rows.len());
+        bail!(
+            "{} has {} bins and {} has {}: not the same geometry",
+            args.a.display(),
+            ta.rows.len(),
+            args.b.display(),
+            tb.rows.len()
+        );
     }
     let (ya, yb) = (ta.column("y", &args.a)?, tb.column("y", &args.b)?);
-    if ya.iter().zip(&yb).any(|(p, q)| (p - q).abs() > 1e-9 * p.abs().max(1.0)) {
-        bail!("the bin centres y differ between {} and {}", args.a.display(), args.b.display());
+    if ya
+        .iter()
+        .zip(&yb)
+        .any(|(p, q)| (p - q).abs() > 1e-9 * p.abs().max(1.0))
+    {
+        bail!(
+            "the bin centres y differ between {} and {}",
+            args.a.display(),
+            args.b.display()
+        );
     }
-    let columns: Vec<String> =
-        if args.columns.is_empty() { DEFAULT_COLUMNS.iter().map(|s| s.to_string()).collect() } else { args.columns.clone() };
-    println!("{:<10} {:>8} {:>10} {:>6}", "observable", "mean z^2", "rel. L2", "bins");
+    let columns: Vec<String> = if args.columns.is_empty() {
+        DEFAULT_COLUMNS.iter().map(|s| s.to_string()).collect()
+    } else {
+        args.columns.clone()
+    };
+    println!(
+        "{:<10} {:>8} {:>10} {:>6}",
+        "observable", "mean z^2", "rel. L2", "bins"
+    );
     for c in &columns {
         let se = format!("{c}_se");
-        let g = agreement(&ta.column(c, &args.a)?, &ta.column(&se, &args.a)?, &tb.column(c, &args.b)?, &tb.column(&se, &args.b)?);
-        println!("{c:<10} {:>8.2} {:>9.2}% {:>6}", g.z2, 100.0 * g.rel_l2, g.bins);
+        let g = agreement(
+            &ta.column(c, &args.a)?,
+            &ta.column(&se, &args.a)?,
+            &tb.column(c, &args.b)?,
+            &tb.column(&se, &args.b)?,
+        );
+        println!(
+            "{c:<10} {:>8.2} {:>9.2}% {:>6}",
+            g.z2,
+            100.0 * g.rel_l2,
+            g.bins
+        );
     }
-    println!("mean z^2 is about 1 when the profiles differ only by noise of the stated standard errors");
+    println!(
+        "mean z^2 is about 1 when the profiles differ only by noise of the stated standard errors"
+    );
     Ok(())
 }

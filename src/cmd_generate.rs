@@ -60,7 +60,10 @@ pub struct Args {
 
 fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     let (i, n) = s.split_once('/').ok_or("expected I/N, e.g. 0/4")?;
-    let (i, n): (usize, usize) = (i.trim().parse().map_err(|_| "I is not a number")?, n.trim().parse().map_err(|_| "N is not a number")?);
+    let (i, n): (usize, usize) = (
+        i.trim().parse().map_err(|_| "I is not a number")?,
+        n.trim().parse().map_err(|_| "N is not a number")?,
+    );
     if n == 0 || i >= n {
         return Err(format!("need 0 <= I < N, got {i}/{n}"));
     }
@@ -91,7 +94,11 @@ impl Outputs {
             w.push(".work");
             PathBuf::from(w)
         });
-        Outputs { dataset: args.out.clone(), scene_table: PathBuf::from(table), work }
+        Outputs {
+            dataset: args.out.clone(),
+            scene_table: PathBuf::from(table),
+            work,
+        }
     }
 }
 
@@ -109,8 +116,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return Ok(());
     }
     let outputs = Outputs::new(&args);
-    if let Some(parent) = outputs.dataset.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent).with_context(|| format!("creating {}", parent.display()))?;
+    if let Some(parent) = outputs
+        .dataset
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+    {
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("creating {}", parent.display()))?;
     }
     let mut todo = Vec::new();
     for gs in &scenes {
@@ -126,10 +138,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     // Cheapest first in the vector: workers pop the most expensive scene first.
-    todo.sort_by(|a, b| cost(&a.scene).total_cmp(&cost(&b.scene)).then(b.index.cmp(&a.index)));
-    let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+    todo.sort_by(|a, b| {
+        cost(&a.scene)
+            .total_cmp(&cost(&b.scene))
+            .then(b.index.cmp(&a.index))
+    });
+    let cores = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
     let jobs = if args.jobs > 0 { args.jobs } else { cores }.clamp(1, todo.len().max(1));
-    let threads = if args.threads > 0 { args.threads } else { (cores / jobs).max(1) };
+    let threads = if args.threads > 0 {
+        args.threads
+    } else {
+        (cores / jobs).max(1)
+    };
     let skipped = scenes.len() - todo.len();
     eprintln!(
         "grid `{}`{}: {} scenes, {} already finished or failed; running {} at a time on {} thread(s) each",
@@ -138,11 +160,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         scenes.len(), skipped, jobs, threads
     );
     write_outputs(&outputs, &scenes)?;
-    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst)).context("installing the Ctrl-C handler")?;
+    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
+        .context("installing the Ctrl-C handler")?;
 
     let multi = MultiProgress::new();
     let overall = multi.add(ProgressBar::new(todo.len() as u64));
-    overall.set_style(ProgressStyle::with_template("[{elapsed_precise}] {bar:30} {pos}/{len} scenes {msg}")?);
+    overall.set_style(ProgressStyle::with_template(
+        "[{elapsed_precise}] {bar:30} {pos}/{len} scenes {msg}",
+    )?);
     let log = |line: String| {
         if multi.is_hidden() {
             eprintln!("{line}");
@@ -159,10 +184,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 let bar = multi.add(ProgressBar::new(1000));
                 bar.set_style(ProgressStyle::with_template("  {msg}").expect("static template"));
                 loop {
-                    if INTERRUPTED.load(Ordering::SeqCst) || worker_error.lock().map(|e| e.is_some()).unwrap_or(true) {
+                    if INTERRUPTED.load(Ordering::SeqCst)
+                        || worker_error.lock().map(|e| e.is_some()).unwrap_or(true)
+                    {
                         break;
                     }
-                    let Some(gs) = queue.lock().ok().and_then(|mut q| q.pop()) else { break };
+                    let Some(gs) = queue.lock().ok().and_then(|mut q| q.pop()) else {
+                        break;
+                    };
                     let result = run_scene(gs, &outputs.work, threads, &bar, &log).and_then(|()| {
                         let _guard = finish.lock();
                         write_outputs(&outputs, &scenes)
@@ -187,19 +216,42 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 /// Runs one scene into its work folder; a failure of the scene itself is recorded there,
 /// and only problems of the work directory are returned as errors.
-fn run_scene(gs: &GridScene, root: &Path, threads: usize, bar: &ProgressBar, log: &(dyn Fn(String) + Sync)) -> anyhow::Result<()> {
+fn run_scene(
+    gs: &GridScene,
+    root: &Path,
+    threads: usize,
+    bar: &ProgressBar,
+    log: &(dyn Fn(String) + Sync),
+) -> anyhow::Result<()> {
     let work = SceneWork::new(root, &gs.id);
     let resuming = work.checkpoint().exists();
-    log(format!("{} start{}: N = {}, L_y = {}, phi = {}, `{}`", gs.id, if resuming { " (resuming)" } else { "" },
-        gs.scene.n_particles(), gs.scene.box_len[1], gs.scene.file.particles.phi, gs.scene.file.fluid.profile));
-    let opts = RunOptions { checkpoint: Some(work.checkpoint()), resume: true, interrupt: Some(&INTERRUPTED) };
+    log(format!(
+        "{} start{}: N = {}, L_y = {}, phi = {}, `{}`",
+        gs.id,
+        if resuming { " (resuming)" } else { "" },
+        gs.scene.n_particles(),
+        gs.scene.box_len[1],
+        gs.scene.file.particles.phi,
+        gs.scene.file.fluid.profile
+    ));
+    let opts = RunOptions {
+        checkpoint: Some(work.checkpoint()),
+        resume: true,
+        interrupt: Some(&INTERRUPTED),
+    };
     let started = Instant::now();
     let mut last_line = Instant::now();
     let outcome = crate::with_threads(threads, || {
         sim::run::run(&gs.scene, &opts, &mut |p, _| {
             let msg = match p.phase {
-                Phase::Equilibrating => format!("{}: equilibrating, strain {:.2} (budget {})", gs.id, p.strain, p.max_strain),
-                Phase::Averaging => format!("{}: averaging, snapshot {} / {}", gs.id, p.snapshots, p.snapshots_target),
+                Phase::Equilibrating => format!(
+                    "{}: equilibrating, strain {:.2} (budget {})",
+                    gs.id, p.strain, p.max_strain
+                ),
+                Phase::Averaging => format!(
+                    "{}: averaging, snapshot {} / {}",
+                    gs.id, p.snapshots, p.snapshots_target
+                ),
             };
             // Without a terminal (batch jobs, nohup) the bars are hidden: a status line a minute instead.
             if bar.is_hidden() && last_line.elapsed().as_secs() >= STATUS_EVERY_S {
@@ -214,10 +266,18 @@ fn run_scene(gs: &GridScene, root: &Path, threads: usize, bar: &ProgressBar, log
             sim::output::write_results(&work.dir, &gs.scene, &outcome.profile, &outcome.summary)?;
             std::fs::remove_file(work.checkpoint()).ok();
             let s = &outcome.summary;
-            log(format!("{} done in {:.0} s: steady at strain {:.2}, momentum residual {:.4}",
-                gs.id, started.elapsed().as_secs_f64(), s.strain_to_steady, s.momentum_residual.unwrap_or(f64::NAN)));
+            log(format!(
+                "{} done in {:.0} s: steady at strain {:.2}, momentum residual {:.4}",
+                gs.id,
+                started.elapsed().as_secs_f64(),
+                s.strain_to_steady,
+                s.momentum_residual.unwrap_or(f64::NAN)
+            ));
         }
-        Err(SimError::Interrupted { step }) => log(format!("{} interrupted at step {step}; checkpoint saved", gs.id)),
+        Err(SimError::Interrupted { step }) => log(format!(
+            "{} interrupted at step {step}; checkpoint saved",
+            gs.id
+        )),
         Err(e) => {
             log(format!("{} FAILED: {e}", gs.id));
             work.record_failure(&e.to_string())?;
@@ -228,7 +288,10 @@ fn run_scene(gs: &GridScene, root: &Path, threads: usize, bar: &ProgressBar, log
 
 /// Rewrites the dataset (finished scenes in grid order) and the scene table, atomically.
 fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()> {
-    let mut dataset = DatasetFile { header: sim::output::profile_header(), scenes: Default::default() };
+    let mut dataset = DatasetFile {
+        header: sim::output::profile_header(),
+        scenes: Default::default(),
+    };
     let mut table = String::from(
         "scene_id,status,reason,n_particles,L_x,L_y,L_z,phi,profile,seed,rho,stokes,dt,dt_limit,steps,\
          strain_to_steady,strain_total,momentum_residual,mean_overlap,max_overlap,wall_s,code_version\n");
@@ -245,10 +308,30 @@ fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()>
         };
         let f = &gs.scene.file;
         let [l_x, l_y, l_z] = gs.scene.box_len;
-        let _ = write!(table, "{},{status},\"{}\",{},{l_x},{l_y},{l_z},{},\"{}\",{},{},{}", gs.id, reason.replace('"', "'"),
-            gs.scene.n_particles(), f.particles.phi, f.fluid.profile, f.seed, gs.scene.rho, gs.scene.stokes);
-        for key in ["dt", "dt_limit", "steps", "strain_to_steady", "strain_total", "momentum_residual", "mean_overlap",
-                    "max_overlap", "wall_s", "code_version"] {
+        let _ = write!(
+            table,
+            "{},{status},\"{}\",{},{l_x},{l_y},{l_z},{},\"{}\",{},{},{}",
+            gs.id,
+            reason.replace('"', "'"),
+            gs.scene.n_particles(),
+            f.particles.phi,
+            f.fluid.profile,
+            f.seed,
+            gs.scene.rho,
+            gs.scene.stokes
+        );
+        for key in [
+            "dt",
+            "dt_limit",
+            "steps",
+            "strain_to_steady",
+            "strain_total",
+            "momentum_residual",
+            "mean_overlap",
+            "max_overlap",
+            "wall_s",
+            "code_version",
+        ] {
             let cell = match summary.as_ref().map(|s| &s[key]) {
                 Some(serde_json::Value::String(v)) => v.clone(),
                 Some(serde_json::Value::Number(v)) => v.to_string(),
@@ -274,28 +357,48 @@ fn report(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()> {
         }
     }
     let rows = DatasetFile::read(&outputs.dataset)?.rows();
-    println!("dataset: {} ({rows} rows from {done} scenes)", outputs.dataset.display());
+    println!(
+        "dataset: {} ({rows} rows from {done} scenes)",
+        outputs.dataset.display()
+    );
     println!("scenes:  {}", outputs.scene_table.display());
     if pending > 0 {
         bail!("interrupted with {pending} scene(s) unfinished (state saved in {}); run the same command again to continue",
             outputs.work.display());
     }
     if !failed.is_empty() {
-        bail!("{} scene(s) failed and are not in the dataset (--retry-failed runs them again):\n{}", failed.len(), failed.join("\n"));
+        bail!(
+            "{} scene(s) failed and are not in the dataset (--retry-failed runs them again):\n{}",
+            failed.len(),
+            failed.join("\n")
+        );
     }
     Ok(())
 }
 
 /// The scenes and their estimated cost, without running.
 fn print_check(scenes: &[&GridScene]) {
-    println!("{:<14} {:>6} {:>6} {:>5} {:>7} {:>7} {:>9} {:>12}  profile", "scene", "N", "L_y", "phi", "rho", "St", "dt", "part-steps");
+    println!(
+        "{:<14} {:>6} {:>6} {:>5} {:>7} {:>7} {:>9} {:>12}  profile",
+        "scene", "N", "L_y", "phi", "rho", "St", "dt", "part-steps"
+    );
     let mut total = 0.0;
     for gs in scenes {
         let s = &gs.scene;
         let c = cost(s);
         total += c;
-        println!("{:<14} {:>6} {:>6} {:>5} {:>7.3} {:>7.4} {:>9.3e} {:>12.3e}  {}", gs.id, s.n_particles(), s.box_len[1],
-            s.file.particles.phi, s.rho, s.stokes, TimeStep::for_scene(s).dt, c, s.file.fluid.profile);
+        println!(
+            "{:<14} {:>6} {:>6} {:>5} {:>7.3} {:>7.4} {:>9.3e} {:>12.3e}  {}",
+            gs.id,
+            s.n_particles(),
+            s.box_len[1],
+            s.file.particles.phi,
+            s.rho,
+            s.stokes,
+            TimeStep::for_scene(s).dt,
+            c,
+            s.file.fluid.profile
+        );
     }
     println!("{} scenes, about {total:.3e} particle-steps (equilibration capped at 10 strain, plus averaging)", scenes.len());
 }

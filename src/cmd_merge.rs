@@ -16,7 +16,10 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     if args.parts.iter().any(|p| p == &args.out) {
-        bail!("--out {} is also an input; write the merge to a new file", args.out.display());
+        bail!(
+            "--out {} is also an input; write the merge to a new file",
+            args.out.display()
+        );
     }
     let mut merged: Option<DatasetFile> = None;
     for path in &args.parts {
@@ -28,6 +31,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let merged = merged.expect("clap requires at least one part");
     sim::checkpoint::write_atomic(&args.out, merged.to_text().as_bytes())?;
-    println!("{}: {} rows from {} scenes in {} files", args.out.display(), merged.rows(), merged.scenes.len(), args.parts.len());
+    println!(
+        "{}: {} rows from {} scenes in {} files",
+        args.out.display(),
+        merged.rows(),
+        merged.scenes.len(),
+        args.parts.len()
+    );
     Ok(())
 }

@@ -20,7 +20,8 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let data = Dataset::read_csv(&args.data)?;
-    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
     let ids = data.text(GROUP_COLUMN)?;
     let (profile, l_y, phi) = (data.text("profile")?, data.text("L_y")?, data.text("phi")?);
     let (y, u_inf) = (data.column("y")?, data.column("u_inf")?);
@@ -37,12 +38,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 errors: Some(rows.iter().map(|&r| se[r]).collect()),
             }];
             if q == "u" {
-                series.push(Series { name: "u_inf".into(), points: rows.iter().map(|&r| (y[r], u_inf[r])).collect(), errors: None });
+                series.push(Series {
+                    name: "u_inf".into(),
+                    points: rows.iter().map(|&r| (y[r], u_inf[r])).collect(),
+                    errors: None,
+                });
             }
-            panels.push(Panel { quantity: q.into(), series });
+            panels.push(Panel {
+                quantity: q.into(),
+                series,
+            });
         }
         let r0 = rows[0];
-        let title = format!("{id}: u_inf = {}, L_y = {}, phi = {}", profile[r0], l_y[r0], phi[r0]);
+        let title = format!(
+            "{id}: u_inf = {}, L_y = {}, phi = {}",
+            profile[r0], l_y[r0], phi[r0]
+        );
         let path = args.out.join(format!("{id}.svg"));
         profile_panels(&path, &title, &panels)?;
         println!("{}", path.display());

@@ -42,13 +42,24 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let names: Vec<&str> = meta.features.iter().map(String::as_str).collect();
     let features = dataset.matrix(&names)?;
     for (row, pred) in features.rows().into_iter().zip(predicted.rows()) {
-        let cells: Vec<String> = row.iter().chain(pred.iter()).map(|x| format!("{x:e}")).collect();
+        let cells: Vec<String> = row
+            .iter()
+            .chain(pred.iter())
+            .map(|x| format!("{x:e}"))
+            .collect();
         let _ = writeln!(out, "{}", cells.join(","));
     }
     match &args.out {
-        Some(path) => std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))?,
+        Some(path) => {
+            std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))?
+        }
         None => print!("{out}"),
     }
-    eprintln!("{} rows predicted by `{}` in {:.2} ms (load + read + predict)", dataset.n_rows(), name, elapsed.as_secs_f64() * 1e3);
+    eprintln!(
+        "{} rows predicted by `{}` in {:.2} ms (load + read + predict)",
+        dataset.n_rows(),
+        name,
+        elapsed.as_secs_f64() * 1e3
+    );
     Ok(())
 }

@@ -51,15 +51,33 @@ pub struct Args {
 const QUICK_BOX: f64 = 8.0;
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let (partial, reference) = (args.partial.unwrap_or(if args.full { 512 } else { 256 }),
-        args.reference.unwrap_or(if args.full { 1000 } else { 500 }));
-    anyhow::ensure!(partial >= 8 && partial % 4 == 0, "--partial {partial}: must be a multiple of 4, at least 8");
-    anyhow::ensure!(reference >= 10 && reference % 10 == 0, "--reference {reference}: must be a multiple of 10, at least 10");
-    if let Some(bad) = args.only.iter().find(|o| !stability_sweep::PARAMETERS.iter().any(|(p, _)| p == o)) {
-        anyhow::bail!("--only {bad}: not a swept parameter (k_n, xi_min, phi, amplitude, size_ratio)");
+    let (partial, reference) = (
+        args.partial.unwrap_or(if args.full { 512 } else { 256 }),
+        args.reference.unwrap_or(if args.full { 1000 } else { 500 }),
+    );
+    anyhow::ensure!(
+        partial >= 8 && partial % 4 == 0,
+        "--partial {partial}: must be a multiple of 4, at least 8"
+    );
+    anyhow::ensure!(
+        reference >= 10 && reference % 10 == 0,
+        "--reference {reference}: must be a multiple of 10, at least 10"
+    );
+    if let Some(bad) = args
+        .only
+        .iter()
+        .find(|o| !stability_sweep::PARAMETERS.iter().any(|(p, _)| p == o))
+    {
+        anyhow::bail!(
+            "--only {bad}: not a swept parameter (k_n, xi_min, phi, amplitude, size_ratio)"
+        );
     }
     for input in [&args.train, &args.validate] {
-        anyhow::ensure!(input.is_file(), "{}: no such file (see datasets/README.md to generate it)", input.display());
+        anyhow::ensure!(
+            input.is_file(),
+            "{}: no such file (see datasets/README.md to generate it)",
+            input.display()
+        );
     }
     let scenes = validation_scenes(&args.scenes, args.full)?;
     let dir = args.out.join(&args.name);
@@ -68,14 +86,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mode = if args.full { "full" } else { "quick" };
     let mut md = String::new();
     let _ = writeln!(md, "# suspflow report `{}` ({mode} mode)\n", args.name);
-    let _ = writeln!(md, "Command: `suspflow {}`; code version {}; {} threads.\n",
-        std::env::args().skip(1).collect::<Vec<_>>().join(" "), sim::CODE_VERSION, rayon::current_num_threads());
+    let _ = writeln!(
+        md,
+        "Command: `suspflow {}`; code version {}; {} threads.\n",
+        std::env::args().skip(1).collect::<Vec<_>>().join(" "),
+        sim::CODE_VERSION,
+        rayon::current_num_threads()
+    );
 
     eprintln!("1/5 convergence runs of {} scenes ({partial} + {reference} snapshots after the steady state) ...", scenes.len());
     let bar = progress_bar(scenes.len() as u64, "scenes");
-    let runs: Vec<ConvergenceRun> = scenes.par_iter().with_max_len(1)
+    let runs: Vec<ConvergenceRun> = scenes
+        .par_iter()
+        .with_max_len(1)
         .map(|s| {
-            let r = convergence::run(s, partial, reference).with_context(|| format!("scene {}", s.file.name));
+            let r = convergence::run(s, partial, reference)
+                .with_context(|| format!("scene {}", s.file.name));
             bar.inc(1);
             r
         })
@@ -85,11 +111,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     eprintln!("2/5 surrogate error against training time ...");
     let section2 = crate::surrogate_cost::section(&args.train, &args.validate, &args.models, &dir)?;
     eprintln!("3/5 side by side ...");
-    let section3 = crate::side_by_side::markdown(&crate::side_by_side::compare(&runs, &args.models, &dir)?);
+    let section3 =
+        crate::side_by_side::markdown(&crate::side_by_side::compare(&runs, &args.models, &dir)?);
     let size = if args.full {
-        SweepSize { window_strain: 0.1, snapshots: 50, box_edge: 10.0 }
+        SweepSize {
+            window_strain: 0.1,
+            snapshots: 50,
+            box_edge: 10.0,
+        }
     } else {
-        SweepSize { window_strain: 0.05, snapshots: 20, box_edge: 8.0 }
+        SweepSize {
+            window_strain: 0.05,
+            snapshots: 20,
+            box_edge: 8.0,
+        }
     };
     let cases = stability_sweep::cases(&args.only);
     eprintln!("4/5 stability sweep: {} cases ...", cases.len());
@@ -97,13 +132,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let bar = progress_bar(cases.len() as u64, "cases");
     let results = stability_sweep::sweep(cases, size, &|| bar.inc(1));
     bar.finish_and_clear();
-    let section4 = crate::stability_map::section(&results, size, sweep_started.elapsed().as_secs_f64(), &dir)?;
+    let section4 =
+        crate::stability_map::section(&results, size, sweep_started.elapsed().as_secs_f64(), &dir)?;
     eprintln!("5/5 Theta against Delta_v ...");
     let section5 = crate::descriptor_noise::section(&args.validate, &args.models, &dir)?;
     for s in [section1, section2, section3, section4, section5] {
         md.push_str(&s);
     }
-    let _ = writeln!(md, "Report written in {:.0} s.", started.elapsed().as_secs_f64());
+    let _ = writeln!(
+        md,
+        "Report written in {:.0} s.",
+        started.elapsed().as_secs_f64()
+    );
     let path = dir.join("report.md");
     sim::checkpoint::write_atomic(&path, md.as_bytes())?;
     println!("{}", path.display());
@@ -113,21 +153,26 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// The scenes of `grid`; in quick mode with the box shrunk to [`QUICK_BOX`] across.
 fn validation_scenes(grid: &Path, full: bool) -> anyhow::Result<Vec<sim::scene::Scene>> {
     let grid = sim::grid::Grid::from_path(grid, false)?;
-    grid.scenes.into_iter().map(|g| {
-        let mut file = g.scene.file.clone();
-        file.name = g.id.clone();
-        if !full {
-            file.box_.l_x = file.box_.l_x.min(QUICK_BOX);
-            file.box_.l_z = file.box_.l_z.min(QUICK_BOX);
-        }
-        Ok(sim::scene::Scene::from_file(file, false)?)
-    }).collect()
+    grid.scenes
+        .into_iter()
+        .map(|g| {
+            let mut file = g.scene.file.clone();
+            file.name = g.id.clone();
+            if !full {
+                file.box_.l_x = file.box_.l_x.min(QUICK_BOX);
+                file.box_.l_z = file.box_.l_z.min(QUICK_BOX);
+            }
+            Ok(sim::scene::Scene::from_file(file, false)?)
+        })
+        .collect()
 }
 
 /// A progress bar over `n` items, drawn only on a terminal.
 fn progress_bar(n: u64, what: &str) -> ProgressBar {
     let bar = ProgressBar::new(n);
-    if let Ok(style) = ProgressStyle::with_template(&format!("{{bar:30}} {{pos}}/{{len}} {what} {{elapsed}}")) {
+    if let Ok(style) =
+        ProgressStyle::with_template(&format!("{{bar:30}} {{pos}}/{{len}} {what} {{elapsed}}"))
+    {
         bar.set_style(style);
     }
     bar

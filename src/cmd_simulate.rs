@@ -42,8 +42,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if args.check {
         return print_check(&scene);
     }
-    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
-    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst)).context("installing the Ctrl-C handler")?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
+        .context("installing the Ctrl-C handler")?;
     let opts = RunOptions {
         checkpoint: Some(args.out.join("checkpoint.json")),
         resume: args.resume,
@@ -52,12 +54,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut frames = match args.snapshot {
         Some(every) if every > 0 => {
             let path = args.out.join("frames.xyz");
-            Some((every, std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?))
+            Some((
+                every,
+                std::fs::File::create(&path)
+                    .with_context(|| format!("creating {}", path.display()))?,
+            ))
         }
         _ => None,
     };
     let bar = ProgressBar::new(1000);
-    bar.set_style(ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})")?);
+    bar.set_style(ProgressStyle::with_template(
+        "{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})",
+    )?);
     let mut frame_error = None;
     let mut samples = 0usize;
     let outcome = crate::with_threads(args.threads, || {
@@ -65,11 +73,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             match p.phase {
                 Phase::Equilibrating => {
                     bar.set_position((1000.0 * p.strain / p.max_strain).min(1000.0) as u64);
-                    bar.set_message(format!("equilibrating: strain {:.2} of budget {:.1}", p.strain, p.max_strain));
+                    bar.set_message(format!(
+                        "equilibrating: strain {:.2} of budget {:.1}",
+                        p.strain, p.max_strain
+                    ));
                 }
                 Phase::Averaging => {
                     bar.set_position((1000 * p.snapshots / p.snapshots_target.max(1)) as u64);
-                    bar.set_message(format!("averaging: snapshot {} / {}", p.snapshots, p.snapshots_target));
+                    bar.set_message(format!(
+                        "averaging: snapshot {} / {}",
+                        p.snapshots, p.snapshots_target
+                    ));
                 }
             }
             samples += 1;
@@ -86,8 +100,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let outcome = match outcome {
         Err(SimError::Interrupted { step }) => {
-            anyhow::bail!("interrupted at step {step}; state saved in {}; continue with --resume",
-                args.out.join("checkpoint.json").display())
+            anyhow::bail!(
+                "interrupted at step {step}; state saved in {}; continue with --resume",
+                args.out.join("checkpoint.json").display()
+            )
         }
         other => other?,
     };
@@ -100,8 +116,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         s.n_particles, s.dt, s.dt_limit, s.steps, s.strain_to_steady, s.wall_s, s.particle_steps_per_s
     );
     match s.momentum_residual {
-        Some(r) => println!("momentum residual {:.3} of the drag scale; mean overlap {:.2e} a, max {:.2e}", r, s.mean_overlap, s.max_overlap),
-        None => println!("momentum residual: n/a (drag off); mean overlap {:.2e} a", s.mean_overlap),
+        Some(r) => println!(
+            "momentum residual {:.3} of the drag scale; mean overlap {:.2e} a, max {:.2e}",
+            r, s.mean_overlap, s.max_overlap
+        ),
+        None => println!(
+            "momentum residual: n/a (drag off); mean overlap {:.2e} a",
+            s.mean_overlap
+        ),
     }
     for w in &s.warnings {
         eprintln!("warning: {w}");
@@ -115,9 +137,19 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
     let r = &scene.file.run;
     let steps_per_strain = t.steps_per_strain(scene);
     println!("scene `{}` is valid", scene.file.name);
-    println!("particles: {} (species counts {:?}), phi = {:.4}", scene.n_particles(), scene.counts, scene.phi_actual);
+    println!(
+        "particles: {} (species counts {:?}), phi = {:.4}",
+        scene.n_particles(),
+        scene.counts,
+        scene.phi_actual
+    );
     println!("bins: {} of width {}", scene.n_bins, r.bin_width);
-    println!("gdot_max = {:.4e}, rho = {:.4}, Stokes number = {:.3e}", scene.gdot_max(), scene.rho, scene.stokes);
+    println!(
+        "gdot_max = {:.4e}, rho = {:.4}, Stokes number = {:.3e}",
+        scene.gdot_max(),
+        scene.rho,
+        scene.stokes
+    );
     println!(
         "dt = {:.3e} set by {} (critical steps: contact {:.3e}, drag {:.3e}, lubrication {:.3e})",
         t.dt, t.limit, t.contact_critical, t.drag_critical, t.lubrication_critical

@@ -68,7 +68,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// Chooses `mapping`'s hyper-parameters by cross-validation, saves and summarises the record.
-fn tune(mapping: &Mapping, samples: &Samples, out: &std::path::Path) -> anyhow::Result<HyperParameters> {
+fn tune(
+    mapping: &Mapping,
+    samples: &Samples,
+    out: &std::path::Path,
+) -> anyhow::Result<HyperParameters> {
     let tuning = Tuning::run(mapping, samples, &standard_grid())?;
     tuning
         .save(out)

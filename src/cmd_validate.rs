@@ -16,8 +16,8 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use surrogate::{
-    evaluate_baseline, profile_names, seeds_validation_error, Baseline, Dataset, HyperParameters, Mapping, Samples,
-    TrainedModel, Tuning, Validation, PROFILE_COLUMN,
+    evaluate_baseline, profile_names, seeds_validation_error, Baseline, Dataset, HyperParameters,
+    Mapping, Samples, TrainedModel, Tuning, Validation, PROFILE_COLUMN,
 };
 
 use crate::plot::{profile_panels, Panel, Series};
@@ -58,10 +58,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let data = Dataset::read_csv(&args.data)?;
     let mut checked = Vec::new();
     for mapping in Mapping::select(&args.mappings)? {
-        let model = TrainedModel::load(&args.models, mapping.name)
-            .with_context(|| format!("loading model `{}` from {}", mapping.name, args.models.display()))?;
-        let validation =
-            Validation::run(&model, &data).with_context(|| format!("validating model `{}`", mapping.name))?;
+        let model = TrainedModel::load(&args.models, mapping.name).with_context(|| {
+            format!(
+                "loading model `{}` from {}",
+                mapping.name,
+                args.models.display()
+            )
+        })?;
+        let validation = Validation::run(&model, &data)
+            .with_context(|| format!("validating model `{}`", mapping.name))?;
         warn_skipped(mapping, &validation.samples);
         checked.push(Checked {
             mapping,
@@ -78,7 +83,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&records(&checked))?);
         return Ok(());
     }
-    println!("validation data {}: {} rows", data.source_name(), data.n_rows());
+    println!(
+        "validation data {}: {} rows",
+        data.source_name(),
+        data.n_rows()
+    );
     for c in &checked {
         print_errors(c);
         print_comparison(c, args.train.as_deref(), &args.models)?;
@@ -135,7 +144,12 @@ fn print_errors(c: &Checked) {
         .max()
         .unwrap_or(0)
         .max(24);
-    let header: String = c.mapping.outputs.iter().map(|o| format!("{o:>10}")).collect();
+    let header: String = c
+        .mapping
+        .outputs
+        .iter()
+        .map(|o| format!("{o:>10}"))
+        .collect();
     println!("  {:<width$} {:>5}{header}", "profile", "rows");
     for error in &c.validation.errors {
         let cells: String = error
@@ -185,10 +199,14 @@ fn print_comparison(c: &Checked, train: Option<&Path>, models: &Path) -> anyhow:
         ("log-linear (linfa, ln of features)", Baseline::LogLinear),
     ] {
         let score = evaluate_baseline(baseline, &training, &c.validation.samples);
-        let seconds = score.as_ref().map_or(f64::NAN, |s| s.training_time.as_secs_f64());
+        let seconds = score
+            .as_ref()
+            .map_or(f64::NAN, |s| s.training_time.as_secs_f64());
         rows.push((
             label.to_owned(),
-            score.map(|s| s.per_output).map_err(|e| format!("not applicable: {e}")),
+            score
+                .map(|s| s.per_output)
+                .map_err(|e| format!("not applicable: {e}")),
             seconds,
         ));
     }
@@ -197,13 +215,20 @@ fn print_comparison(c: &Checked, train: Option<&Path>, models: &Path) -> anyhow:
         training.source_name,
         training.n_rows()
     );
-    let width = rows.iter().map(|(label, _, _)| label.len()).max().unwrap_or(0);
+    let width = rows
+        .iter()
+        .map(|(label, _, _)| label.len())
+        .max()
+        .unwrap_or(0);
     let header: String = outputs.iter().map(|o| format!("{o:>10}")).collect();
     println!("  {:<width$}{header}  {:>10}", "model", "training");
     for (label, errors, seconds) in rows {
         match errors {
             Ok(errors) => {
-                let cells: String = errors.iter().map(|&e| format!("{:>10}", percent(e))).collect();
+                let cells: String = errors
+                    .iter()
+                    .map(|&e| format!("{:>10}", percent(e)))
+                    .collect();
                 println!("  {label:<width$}{cells}  {:>7.3} ms", 1e3 * seconds);
             }
             Err(why) => println!("  {label:<width$}  {why}"),
@@ -301,7 +326,12 @@ fn print_importance(checked: &[Checked]) -> anyhow::Result<()> {
         let total: f64 = gains.iter().map(|(_, g)| g).sum();
         let shares: Vec<String> = gains
             .iter()
-            .map(|(name, g)| format!("{name} {:.1} %", if total > 0.0 { 100.0 * g / total } else { 0.0 }))
+            .map(|(name, g)| {
+                format!(
+                    "{name} {:.1} %",
+                    if total > 0.0 { 100.0 * g / total } else { 0.0 }
+                )
+            })
             .collect();
         println!("  {:<6} {}", c.mapping.name, shares.join(", "));
     }
@@ -312,7 +342,10 @@ fn print_importance(checked: &[Checked]) -> anyhow::Result<()> {
 /// and predicted. Returns the files written.
 fn write_figures(data: &Dataset, checked: &[Checked], dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let mut outputs: Vec<&str> = checked.iter().flat_map(|c| c.mapping.outputs.iter().copied()).collect();
+    let mut outputs: Vec<&str> = checked
+        .iter()
+        .flat_map(|c| c.mapping.outputs.iter().copied())
+        .collect();
     let columns = data.column_names();
     outputs.sort_by_key(|o| columns.iter().position(|c| c == o));
     outputs.dedup();
@@ -320,7 +353,9 @@ fn write_figures(data: &Dataset, checked: &[Checked], dir: &Path) -> anyhow::Res
     let profiles = data.text(PROFILE_COLUMN)?;
     let mut files = Vec::new();
     for (k, profile) in profile_names(data)?.iter().enumerate() {
-        let rows: Vec<usize> = (0..data.n_rows()).filter(|&r| &profiles[r] == profile).collect();
+        let rows: Vec<usize> = (0..data.n_rows())
+            .filter(|&r| &profiles[r] == profile)
+            .collect();
         let mut panels = Vec::new();
         for &output in &outputs {
             let values = data.column(output)?;

@@ -61,7 +61,11 @@ pub fn column<'a>(o: &'a Observables, name: &str) -> &'a [f64] {
 /// `||a - b|| / ||b - offset||` over the bins where both are finite (NaN when none are).
 pub fn relative_l2(a: &[f64], b: &[f64], offset: f64) -> f64 {
     let (mut d2, mut b2) = (0.0, 0.0);
-    for (x, y) in a.iter().zip(b).filter(|(x, y)| x.is_finite() && y.is_finite()) {
+    for (x, y) in a
+        .iter()
+        .zip(b)
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+    {
         d2 += (x - y) * (x - y);
         b2 += (y - offset) * (y - offset);
     }
@@ -120,7 +124,11 @@ pub fn run(scene: &Scene, partial: usize, reference: usize) -> Result<Convergenc
             snaps.push(sums);
             walls.push(started.elapsed().as_secs_f64());
         } else if !reference_sums.full() {
-            reference_sums.current().iter_mut().zip(&sums).for_each(|(acc, v)| *acc += v);
+            reference_sums
+                .current()
+                .iter_mut()
+                .zip(&sums)
+                .for_each(|(acc, v)| *acc += v);
             reference_sums.commit();
         }
     })?;
@@ -129,7 +137,13 @@ pub fn run(scene: &Scene, partial: usize, reference: usize) -> Result<Convergenc
         .into_iter()
         .map(|n| {
             let profile = Profile::from_blocks(&ctx, &blocks_of(&snaps[..n], PARTIAL_BLOCKS, nb))?;
-            let error = OBSERVABLES.map(|o| relative_l2(column(&profile.mean, o), column(&reference_profile.mean, o), 0.0));
+            let error = OBSERVABLES.map(|o| {
+                relative_l2(
+                    column(&profile.mean, o),
+                    column(&reference_profile.mean, o),
+                    0.0,
+                )
+            });
             Ok(PartialProfile {
                 snapshots: n,
                 averaging_strain: n as f64 * scene.file.run.sample_strain,
@@ -162,13 +176,19 @@ pub fn noise_constant(n: f64, error: f64, reference: f64) -> f64 {
 /// Least-squares slope of `ln error` against `ln n`, over `points` `(n, error)`; NaN with
 /// fewer than two usable points.
 pub fn log_slope(points: &[(f64, f64)]) -> f64 {
-    let p: Vec<(f64, f64)> = points.iter().filter(|(n, e)| *n > 0.0 && *e > 0.0 && e.is_finite())
-        .map(|(n, e)| (n.ln(), e.ln())).collect();
+    let p: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(n, e)| *n > 0.0 && *e > 0.0 && e.is_finite())
+        .map(|(n, e)| (n.ln(), e.ln()))
+        .collect();
     if p.len() < 2 {
         return f64::NAN;
     }
     let m = p.len() as f64;
-    let (mx, my) = (p.iter().map(|q| q.0).sum::<f64>() / m, p.iter().map(|q| q.1).sum::<f64>() / m);
+    let (mx, my) = (
+        p.iter().map(|q| q.0).sum::<f64>() / m,
+        p.iter().map(|q| q.1).sum::<f64>() / m,
+    );
     let sxy: f64 = p.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
     let sxx: f64 = p.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
     sxy / sxx
@@ -180,9 +200,16 @@ pub fn log_slope(points: &[(f64, f64)]) -> f64 {
 /// the error is purely statistical.
 pub fn decorrelated_slope(run: &ConvergenceRun, observable: usize) -> f64 {
     let r = run.reference_snapshots as f64;
-    let points: Vec<(f64, f64)> = run.partials.iter()
+    let points: Vec<(f64, f64)> = run
+        .partials
+        .iter()
         .filter(|p| p.averaging_strain >= DECORRELATED_STRAIN - 1e-9)
-        .map(|p| (p.snapshots as f64, p.error[observable] * (r / (r + p.snapshots as f64)).sqrt()))
+        .map(|p| {
+            (
+                p.snapshots as f64,
+                p.error[observable] * (r / (r + p.snapshots as f64)).sqrt(),
+            )
+        })
         .collect();
     log_slope(&points)
 }
@@ -202,7 +229,10 @@ mod tests {
         let c: f64 = 0.3;
         let e = (c * (1.0 / 8.0 + 1.0 / 100.0)).sqrt();
         assert!((noise_constant(8.0, e, 100.0) - c).abs() < 1e-12);
-        let pure: Vec<(f64, f64)> = [4.0, 40.0, 400.0].iter().map(|&n: &f64| (n, 2.0 / n.sqrt())).collect();
+        let pure: Vec<(f64, f64)> = [4.0, 40.0, 400.0]
+            .iter()
+            .map(|&n: &f64| (n, 2.0 / n.sqrt()))
+            .collect();
         assert!((log_slope(&pure) + 0.5).abs() < 1e-12);
         assert!(log_slope(&pure[..1]).is_nan());
     }

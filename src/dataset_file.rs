@@ -22,7 +22,8 @@ impl DatasetFile {
     /// Reads and checks `path`; errors name the file and the line (1 = header).
     pub fn read(path: &Path) -> anyhow::Result<DatasetFile> {
         let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-        let text = String::from_utf8(bytes).map_err(|e| anyhow::anyhow!("{}: not UTF-8 text ({e})", path.display()))?;
+        let text = String::from_utf8(bytes)
+            .map_err(|e| anyhow::anyhow!("{}: not UTF-8 text ({e})", path.display()))?;
         Self::parse(&text).with_context(|| format!("in {}", path.display()))
     }
 
@@ -32,14 +33,22 @@ impl DatasetFile {
             bail!("the file is empty (expected a header line)");
         }
         if !text.ends_with('\n') {
-            bail!("line {} is truncated (the file does not end with an end-of-line)", text.lines().count());
+            bail!(
+                "line {} is truncated (the file does not end with an end-of-line)",
+                text.lines().count()
+            );
         }
         let mut lines = text.lines();
         let header = lines.next().unwrap_or_default().to_string();
         let names = fields(&header).context("line 1 (header)")?;
-        let id_column = names.iter().position(|n| n == "scene_id")
+        let id_column = names
+            .iter()
+            .position(|n| n == "scene_id")
             .with_context(|| format!("line 1: no `scene_id` column in the header `{header}`"))?;
-        let numeric: Vec<bool> = names.iter().map(|n| !TEXT_COLUMNS.contains(&n.as_str())).collect();
+        let numeric: Vec<bool> = names
+            .iter()
+            .map(|n| !TEXT_COLUMNS.contains(&n.as_str()))
+            .collect();
         let mut scenes: BTreeMap<String, Vec<String>> = BTreeMap::new();
         let mut last_id: Option<String> = None;
         for (k, line) in lines.enumerate() {
@@ -66,11 +75,17 @@ impl DatasetFile {
     /// Adds the scenes of `other`, which must have the same header and no scene in common.
     pub fn absorb(&mut self, other: DatasetFile, other_name: &str) -> anyhow::Result<()> {
         if other.header != self.header {
-            bail!("{other_name}: its header differs from the first file's:\n  {}\n  {}", other.header, self.header);
+            bail!(
+                "{other_name}: its header differs from the first file's:\n  {}\n  {}",
+                other.header,
+                self.header
+            );
         }
         for (id, lines) in other.scenes {
             if self.scenes.contains_key(&id) {
-                bail!("{other_name}: scene `{id}` is also in an earlier file (overlapping shards?)");
+                bail!(
+                    "{other_name}: scene `{id}` is also in an earlier file (overlapping shards?)"
+                );
             }
             self.scenes.insert(id, lines);
         }
@@ -79,7 +94,15 @@ impl DatasetFile {
 
     /// The file's text: header, then the scenes in id order.
     pub fn to_text(&self) -> String {
-        let mut out = String::with_capacity(self.scenes.values().flatten().map(|l| l.len() + 1).sum::<usize>() + self.header.len() + 1);
+        let mut out = String::with_capacity(
+            self.scenes
+                .values()
+                .flatten()
+                .map(|l| l.len() + 1)
+                .sum::<usize>()
+                + self.header.len()
+                + 1,
+        );
         out.push_str(&self.header);
         out.push('\n');
         for line in self.scenes.values().flatten() {
@@ -97,9 +120,14 @@ impl DatasetFile {
 
 /// The fields of one CSV line (quotes removed).
 fn fields(line: &str) -> anyhow::Result<Vec<String>> {
-    let mut reader = csv::ReaderBuilder::new().has_headers(false).flexible(true).from_reader(line.as_bytes());
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(line.as_bytes());
     let mut record = csv::StringRecord::new();
-    let read = reader.read_record(&mut record).map_err(|e| anyhow::anyhow!("not valid CSV: {e}"))?;
+    let read = reader
+        .read_record(&mut record)
+        .map_err(|e| anyhow::anyhow!("not valid CSV: {e}"))?;
     if !read {
         bail!("is empty");
     }
@@ -115,7 +143,10 @@ mod tests {
     #[test]
     fn merge_keeps_bytes_and_orders_scenes() {
         let mut a = DatasetFile::parse(&format!("{HEADER}\ng_002,\"sin(y)\",1e0,5e-1\n")).unwrap();
-        let b = DatasetFile::parse(&format!("{HEADER}\ng_000,\"sin(y)\",1e0,\ng_000,\"sin(y)\",3e0,2\n")).unwrap();
+        let b = DatasetFile::parse(&format!(
+            "{HEADER}\ng_000,\"sin(y)\",1e0,\ng_000,\"sin(y)\",3e0,2\n"
+        ))
+        .unwrap();
         a.absorb(b, "b").unwrap();
         assert_eq!(a.to_text(), format!("{HEADER}\ng_000,\"sin(y)\",1e0,\ng_000,\"sin(y)\",3e0,2\ng_002,\"sin(y)\",1e0,5e-1\n"));
         assert_eq!(a.rows(), 3);
@@ -127,13 +158,24 @@ mod tests {
             (format!("{HEADER}\ng_0,\"s\",1,2\ng_0,\"s\",1"), "line 3"),
             (format!("{HEADER}\ng_0,\"s\",1\n"), "line 2 has 3 fields"),
             (format!("{HEADER}\ng_0,\"s\",1,x\n"), "line 2, column `mu`"),
-            (format!("{HEADER}\ng_0,\"s\",1,NaN\n"), "line 2, column `mu`"),
-            (format!("{HEADER}\ng_0,\"s\",1,2\ng_1,\"s\",1,2\ng_0,\"s\",1,2\n"), "line 4: scene `g_0`"),
+            (
+                format!("{HEADER}\ng_0,\"s\",1,NaN\n"),
+                "line 2, column `mu`",
+            ),
+            (
+                format!("{HEADER}\ng_0,\"s\",1,2\ng_1,\"s\",1,2\ng_0,\"s\",1,2\n"),
+                "line 4: scene `g_0`",
+            ),
             ("profile,y\nx,1\n".to_string(), "no `scene_id`"),
             (String::new(), "empty"),
         ];
         for (text, expected) in cases {
-            let err = format!("{:#}", DatasetFile::parse(&text).err().unwrap_or_else(|| panic!("accepted {text:?}")));
+            let err = format!(
+                "{:#}",
+                DatasetFile::parse(&text)
+                    .err()
+                    .unwrap_or_else(|| panic!("accepted {text:?}"))
+            );
             assert!(err.contains(expected), "{err} should mention {expected}");
         }
     }
@@ -142,7 +184,9 @@ mod tests {
     fn overlapping_or_mismatched_files_are_refused() {
         let mut a = DatasetFile::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
         let same = DatasetFile::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
-        assert!(format!("{:#}", a.absorb(same, "b").unwrap_err()).contains("also in an earlier file"));
+        assert!(
+            format!("{:#}", a.absorb(same, "b").unwrap_err()).contains("also in an earlier file")
+        );
         let other = DatasetFile::parse("scene_id,y\ng_1,1\n").unwrap();
         assert!(format!("{:#}", a.absorb(other, "c").unwrap_err()).contains("header differs"));
     }

@@ -24,7 +24,12 @@ pub struct DescriptorStats {
 
 /// Statistics of `values` with standard errors `se` (non-finite entries skipped).
 pub fn stats(values: &[f64], se: &[f64]) -> DescriptorStats {
-    let pairs: Vec<(f64, f64)> = values.iter().zip(se).filter(|(v, s)| v.is_finite() && s.is_finite()).map(|(&v, &s)| (v, s)).collect();
+    let pairs: Vec<(f64, f64)> = values
+        .iter()
+        .zip(se)
+        .filter(|(v, s)| v.is_finite() && s.is_finite())
+        .map(|(&v, &s)| (v, s))
+        .collect();
     let n = pairs.len() as f64;
     let mean = pairs.iter().map(|p| p.0).sum::<f64>() / n;
     let sd = (pairs.iter().map(|p| (p.0 - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
@@ -46,14 +51,32 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
     let mut md = String::from("## 5. Theta against Delta_v\n\n");
     md.push_str("Surrogate: relative L2 validation error (eq 6.6) of the mapping that reads Theta and of the one that \
         reads Delta_v, with the same J and phi inputs and the same outputs.\n\n| profile | output | theta mapping | dv mapping | lower |\n|---|---|---|---|---|\n");
-    let load = |name: &str| TrainedModel::load(models, name).with_context(|| format!("loading the {name} model from {}", models.display()));
+    let load = |name: &str| {
+        TrainedModel::load(models, name)
+            .with_context(|| format!("loading the {name} model from {}", models.display()))
+    };
     let (theta, dv) = (load("theta")?, load("dv")?);
-    let (vt, vd) = (Validation::run(&theta, &data)?, Validation::run(&dv, &data)?);
+    let (vt, vd) = (
+        Validation::run(&theta, &data)?,
+        Validation::run(&dv, &data)?,
+    );
     for (t, d) in vt.errors.iter().zip(&vd.errors) {
         for (k, output) in theta.meta().outputs.iter().enumerate() {
             let (a, b) = (t.per_output[k], d.per_output[k]);
-            let lower = if a < b { "Theta" } else if b < a { "Delta_v" } else { "tie" };
-            let _ = writeln!(md, "| {} | {output} | {:.2} % | {:.2} % | {lower} |", t.profile, 100.0 * a, 100.0 * b);
+            let lower = if a < b {
+                "Theta"
+            } else if b < a {
+                "Delta_v"
+            } else {
+                "tie"
+            };
+            let _ = writeln!(
+                md,
+                "| {} | {output} | {:.2} % | {:.2} % | {lower} |",
+                t.profile,
+                100.0 * a,
+                100.0 * b
+            );
         }
     }
     let share = |m: &TrainedModel, feature: &str| -> anyhow::Result<f64> {
@@ -76,29 +99,73 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
         }
     }
     let y = data.column("y")?;
-    let mut panels: Vec<Panel> = ["Theta", "Delta_v", "Theta SE / Theta", "Delta_v SE / Delta_v"].iter()
-        .map(|q| Panel { quantity: q.to_string(), series: Vec::new() }).collect();
+    let mut panels: Vec<Panel> = [
+        "Theta",
+        "Delta_v",
+        "Theta SE / Theta",
+        "Delta_v SE / Delta_v",
+    ]
+    .iter()
+    .map(|q| Panel {
+        quantity: q.to_string(),
+        series: Vec::new(),
+    })
+    .collect();
     let mut notes = Vec::new();
     for id in unique {
         let rows: Vec<usize> = (0..ids.len()).filter(|&r| &ids[r] == id).collect();
         let mut medians = [f64::NAN; 2];
         for (d, name) in ["Theta", "Delta_v"].iter().enumerate() {
-            let pick = |c: &str| -> anyhow::Result<Vec<f64>> { let col = data.column(c)?; Ok(rows.iter().map(|&r| col[r]).collect()) };
+            let pick = |c: &str| -> anyhow::Result<Vec<f64>> {
+                let col = data.column(c)?;
+                Ok(rows.iter().map(|&r| col[r]).collect())
+            };
             let (v, se) = (pick(name)?, pick(&format!("{name}_se"))?);
             let s = stats(&v, &se);
             medians[d] = s.median_relative_se;
-            let _ = writeln!(md, "| {id} | {name} | {:.2} | {:.2} % | {:.1} % | {:.1} |", s.variation,
-                100.0 * s.median_relative_se, 100.0 * s.max_relative_se, s.signal_to_noise);
+            let _ = writeln!(
+                md,
+                "| {id} | {name} | {:.2} | {:.2} % | {:.1} % | {:.1} |",
+                s.variation,
+                100.0 * s.median_relative_se,
+                100.0 * s.max_relative_se,
+                s.signal_to_noise
+            );
             let ys: Vec<f64> = rows.iter().map(|&r| y[r]).collect();
-            panels[d].series.push(Series { name: id.clone(), points: ys.iter().copied().zip(v.iter().copied()).collect(), errors: Some(se.clone()) });
-            panels[d + 2].series.push(Series { name: id.clone(), points: ys.iter().zip(v.iter().zip(&se)).map(|(&y, (v, s))| (y, s / v.abs())).collect(), errors: None });
+            panels[d].series.push(Series {
+                name: id.clone(),
+                points: ys.iter().copied().zip(v.iter().copied()).collect(),
+                errors: Some(se.clone()),
+            });
+            panels[d + 2].series.push(Series {
+                name: id.clone(),
+                points: ys
+                    .iter()
+                    .zip(v.iter().zip(&se))
+                    .map(|(&y, (v, s))| (y, s / v.abs()))
+                    .collect(),
+                errors: None,
+            });
         }
-        let (u_inf, dv, dv_se) = (data.column("u_inf")?, data.column("Delta_v")?, data.column("Delta_v_se")?);
-        let worst = rows.iter().copied().filter(|&r| (dv_se[r] / dv[r].abs()).is_finite())
+        let (u_inf, dv, dv_se) = (
+            data.column("u_inf")?,
+            data.column("Delta_v")?,
+            data.column("Delta_v_se")?,
+        );
+        let worst = rows
+            .iter()
+            .copied()
+            .filter(|&r| (dv_se[r] / dv[r].abs()).is_finite())
             .max_by(|&a, &b| (dv_se[a] / dv[a].abs()).total_cmp(&(dv_se[b] / dv[b].abs())));
         let u_max = rows.iter().map(|&r| u_inf[r].abs()).fold(0.0, f64::max);
-        let at = worst.map_or(String::new(), |r| format!(" Its noisiest bin is at y = {:.0}, where |u_inf| = {:.3} \
-            (largest |u_inf| {u_max:.3}): Delta_v divides by |u_inf|.", y[r], u_inf[r].abs()));
+        let at = worst.map_or(String::new(), |r| {
+            format!(
+                " Its noisiest bin is at y = {:.0}, where |u_inf| = {:.3} \
+            (largest |u_inf| {u_max:.3}): Delta_v divides by |u_inf|.",
+                y[r],
+                u_inf[r].abs()
+            )
+        });
         notes.push(format!("- {id}: Delta_v's median relative standard error is {:.1} times Theta's, so the same relative \
             precision takes {:.1} times the averaging.{at}", medians[1] / medians[0], (medians[1] / medians[0]).powi(2)));
     }
@@ -106,7 +173,11 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
     md.push_str(&notes.join("\n"));
     md.push_str("\n\nDelta_v needs only the mean velocity profile (e.g. from PIV in an experiment), Theta the velocity \
         fluctuations of individual particles; the table shows what each costs in averaging time in a simulation.\n");
-    profile_panels(&dir.join("descriptors_along_y.svg"), "Theta and Delta_v along y (validation profiles, 1 SE bars)", &panels)?;
+    profile_panels(
+        &dir.join("descriptors_along_y.svg"),
+        "Theta and Delta_v along y (validation profiles, 1 SE bars)",
+        &panels,
+    )?;
     md.push_str("\n![Theta and Delta_v along y](descriptors_along_y.svg)\n\n");
     Ok(md)
 }

@@ -14,18 +14,42 @@ pub struct Line {
 
 /// Draws `lines` on log-log axes to the SVG file `path`; `guide` adds a dashed grey line of
 /// that slope through the first point of the first line.
-pub fn draw(path: &Path, title: &str, axes: (&str, &str), lines: &[Line], guide: Option<f64>) -> anyhow::Result<()> {
-    draw_inner(path, title, axes, lines, guide).with_context(|| format!("drawing {}", path.display()))
+pub fn draw(
+    path: &Path,
+    title: &str,
+    axes: (&str, &str),
+    lines: &[Line],
+    guide: Option<f64>,
+) -> anyhow::Result<()> {
+    draw_inner(path, title, axes, lines, guide)
+        .with_context(|| format!("drawing {}", path.display()))
 }
 
 fn usable(lines: &[Line]) -> impl Iterator<Item = (f64, f64)> + '_ {
-    lines.iter().flat_map(|l| l.points.iter().copied()).filter(|&(x, y)| x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite())
+    lines
+        .iter()
+        .flat_map(|l| l.points.iter().copied())
+        .filter(|&(x, y)| x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite())
 }
 
-fn draw_inner(path: &Path, title: &str, (x_label, y_label): (&str, &str), lines: &[Line], guide: Option<f64>) -> anyhow::Result<()> {
+fn draw_inner(
+    path: &Path,
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    lines: &[Line],
+    guide: Option<f64>,
+) -> anyhow::Result<()> {
     let bounds = |f: fn((f64, f64)) -> f64| {
-        let (lo, hi) = usable(lines).map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
-        if lo > hi { (0.1, 10.0) } else { (lo / 1.5, hi * 1.5) }
+        let (lo, hi) = usable(lines)
+            .map(f)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            });
+        if lo > hi {
+            (0.1, 10.0)
+        } else {
+            (lo / 1.5, hi * 1.5)
+        }
     };
     let (x0, x1) = bounds(|p| p.0);
     let (y0, y1) = bounds(|p| p.1);
@@ -37,8 +61,13 @@ fn draw_inner(path: &Path, title: &str, (x_label, y_label): (&str, &str), lines:
         .x_label_area_size(44)
         .y_label_area_size(64)
         .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
-    chart.configure_mesh().x_desc(x_label).y_desc(y_label)
-        .x_label_formatter(&|v| tick(*v)).y_label_formatter(&|v| tick(*v)).draw()?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .draw()?;
     for (i, line) in lines.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         let pts: Vec<(f64, f64)> = usable(std::slice::from_ref(line)).collect();
@@ -46,16 +75,27 @@ fn draw_inner(path: &Path, title: &str, (x_label, y_label): (&str, &str), lines:
         chart
             .draw_series(LineSeries::new(pts, colour.stroke_width(2)))?
             .label(line.name.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
     }
     if let (Some(slope), Some((gx, gy))) = (guide, usable(lines).next()) {
         let ends = [x0, x1].map(|x| (x, gy * (x / gx).powf(slope)));
         chart
-            .draw_series(DashedLineSeries::new(ends, 6, 4, RGBColor(120, 120, 120).stroke_width(1)))?
+            .draw_series(DashedLineSeries::new(
+                ends,
+                6,
+                4,
+                RGBColor(120, 120, 120).stroke_width(1),
+            ))?
             .label(format!("slope {slope}"))
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RGBColor(120, 120, 120)));
     }
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()?;
     root.present()?;
     Ok(())
 }
@@ -65,7 +105,11 @@ fn tick(v: f64) -> String {
     if (1e-3..1e5).contains(&v.abs()) {
         let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
         let s = format!("{v:.digits$}");
-        if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
     } else {
         format!("{v:.0e}")
     }

@@ -26,7 +26,11 @@ mod surrogate_cost;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "suspflow", version, about = "Dense-suspension rheology under inhomogeneous flow")]
+#[command(
+    name = "suspflow",
+    version,
+    about = "Dense-suspension rheology under inhomogeneous flow"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -61,7 +65,9 @@ enum Command {
 
 /// Runs `f` on a pool of `threads` threads (0 = all cores).
 pub fn with_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> anyhow::Result<T> {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
     Ok(pool.install(f))
 }
 

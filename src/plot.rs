@@ -81,7 +81,9 @@ fn draw(path: &Path, title: &str, panels: &[Panel]) -> anyhow::Result<()> {
             .draw()?;
         for series in &panel.series {
             let colour = colour(&series.name);
-            let points: Vec<(f64, f64)> = finite_points(series).map(|(y, value, _)| (value, y)).collect();
+            let points: Vec<(f64, f64)> = finite_points(series)
+                .map(|(y, value, _)| (value, y))
+                .collect();
             if series.errors.is_some() {
                 chart.draw_series(finite_points(series).map(|(y, value, error)| {
                     let error = if error.is_finite() { error } else { 0.0 };
@@ -105,9 +107,16 @@ fn draw(path: &Path, title: &str, panels: &[Panel]) -> anyhow::Result<()> {
     let y = i32::try_from(LEGEND_HEIGHT / 2)?;
     for name in &names {
         let colour = colour(name);
-        legend.draw(&PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(2)))?;
+        legend.draw(&PathElement::new(
+            vec![(x, y), (x + 24, y)],
+            colour.stroke_width(2),
+        ))?;
         legend.draw(&Circle::new((x + 12, y), 3, colour.filled()))?;
-        legend.draw(&Text::new(name.as_str(), (x + 30, y - 7), ("sans-serif", 14)))?;
+        legend.draw(&Text::new(
+            name.as_str(),
+            (x + 30, y - 7),
+            ("sans-serif", 14),
+        ))?;
         x += 50 + 8 * i32::try_from(name.len())?;
     }
     root.present()?;
@@ -155,7 +164,9 @@ fn value_range(panel: &Panel) -> Range<f64> {
 /// The range of `values` widened by 5 % on each side; `0..1` when there are none, and a
 /// range around the value when all are equal.
 fn padded(values: impl Iterator<Item = f64>) -> Range<f64> {
-    let (min, max) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let (min, max) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
     if min > max {
         return 0.0..1.0;
     }

@@ -30,7 +30,8 @@ impl SceneWork {
     /// Creates the folder for `file`, or checks that an existing one was made for the same
     /// scene (a changed grid must not mix old and new results).
     pub fn prepare(&self, file: &SceneFile) -> anyhow::Result<()> {
-        std::fs::create_dir_all(&self.dir).with_context(|| format!("creating {}", self.dir.display()))?;
+        std::fs::create_dir_all(&self.dir)
+            .with_context(|| format!("creating {}", self.dir.display()))?;
         let text = toml::to_string(file).context("writing the scene as TOML")?;
         let path = self.dir.join("scene.toml");
         match std::fs::read_to_string(&path) {
@@ -48,8 +49,10 @@ impl SceneWork {
     pub fn status(&self) -> anyhow::Result<SceneStatus> {
         let summary = self.dir.join("summary.json");
         if self.dir.join("profile.csv").exists() && summary.exists() {
-            let bytes = std::fs::read(&summary).with_context(|| format!("reading {}", summary.display()))?;
-            let value = serde_json::from_slice(&bytes).with_context(|| format!("reading {}", summary.display()))?;
+            let bytes = std::fs::read(&summary)
+                .with_context(|| format!("reading {}", summary.display()))?;
+            let value = serde_json::from_slice(&bytes)
+                .with_context(|| format!("reading {}", summary.display()))?;
             return Ok(SceneStatus::Done(value));
         }
         match std::fs::read_to_string(self.dir.join("failed.txt")) {
@@ -65,7 +68,10 @@ impl SceneWork {
 
     /// Records a failure (its reason) and drops the checkpoint.
     pub fn record_failure(&self, reason: &str) -> anyhow::Result<()> {
-        sim::checkpoint::write_atomic(&self.dir.join("failed.txt"), format!("{reason}\n").as_bytes())?;
+        sim::checkpoint::write_atomic(
+            &self.dir.join("failed.txt"),
+            format!("{reason}\n").as_bytes(),
+        )?;
         std::fs::remove_file(self.checkpoint()).ok();
         Ok(())
     }

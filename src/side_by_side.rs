@@ -46,12 +46,21 @@ pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Re
     for run in runs {
         let id = run.scene.file.name.clone();
         let path = dir.join(format!("reference_{id}.csv"));
-        let csv = format!("{}\n{}", sim::output::profile_header(), sim::output::profile_rows(&run.scene, &run.reference, &run.summary));
+        let csv = format!(
+            "{}\n{}",
+            sim::output::profile_header(),
+            sim::output::profile_rows(&run.scene, &run.reference, &run.summary)
+        );
         sim::checkpoint::write_atomic(&path, csv.as_bytes())?;
         let data = Dataset::read_csv(&path)?;
         for mapping in &MAPPINGS {
-            let model = Predictor::load(models, mapping.name)
-                .with_context(|| format!("loading the {} model from {}", mapping.name, models.display()))?;
+            let model = Predictor::load(models, mapping.name).with_context(|| {
+                format!(
+                    "loading the {} model from {}",
+                    mapping.name,
+                    models.display()
+                )
+            })?;
             let errors = surrogate_errors(&model, mapping, &data)?;
             let ms = time_mapping(mapping, models, &path, 20)?.median_ms;
             for (k, &output) in mapping.outputs.iter().enumerate() {
@@ -73,30 +82,61 @@ pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Re
 }
 
 /// Relative L2 error of each output of `model` on `data`, scaled as in training.
-fn surrogate_errors(model: &Predictor, mapping: &Mapping, data: &Dataset) -> anyhow::Result<Vec<f64>> {
+fn surrogate_errors(
+    model: &Predictor,
+    mapping: &Mapping,
+    data: &Dataset,
+) -> anyhow::Result<Vec<f64>> {
     let samples = Samples::from_dataset(data, mapping)?;
     let predicted = model.predict_features(samples.features.view())?;
     let scaling = &model.meta().scaling;
     let truth = scaling.scale(samples.outputs.view())?;
-    Ok(relative_l2_error(truth.view(), scaling.scale(predicted.view())?.view())?)
+    Ok(relative_l2_error(
+        truth.view(),
+        scaling.scale(predicted.view())?.view(),
+    )?)
 }
 
 /// The shortest run of `run`'s scene whose `output` profile is within `target` of the
 /// reference, in the scaled metric (offset `min`, the training minimum), and the
 /// reference's own noise in that metric.
-fn simulation_cost(run: &ConvergenceRun, output: &str, min: f64, target: f64) -> (SimulationCost, f64) {
+fn simulation_cost(
+    run: &ConvergenceRun,
+    output: &str,
+    min: f64,
+    target: f64,
+) -> (SimulationCost, f64) {
     let reference = column(&run.reference.mean, output);
-    let points: Vec<(f64, f64)> = run.partials.iter()
-        .map(|p| (p.snapshots as f64, relative_l2(column(&p.profile.mean, output), reference, min)))
+    let points: Vec<(f64, f64)> = run
+        .partials
+        .iter()
+        .map(|p| {
+            (
+                p.snapshots as f64,
+                relative_l2(column(&p.profile.mean, output), reference, min),
+            )
+        })
         .collect();
     let strain_at = |n: f64| run.summary.strain_to_steady + n * run.scene.file.run.sample_strain;
     let r = run.reference_snapshots as f64;
-    let (last, &(n_last, e_last)) = (run.partials.last().expect("a convergence run has partial profiles"),
-        points.last().expect("one error per partial profile"));
+    let (last, &(n_last, e_last)) = (
+        run.partials
+            .last()
+            .expect("a convergence run has partial profiles"),
+        points.last().expect("one error per partial profile"),
+    );
     let c = noise_constant(n_last, e_last, r);
     let floor = (c / r).sqrt();
-    if let Some((p, _)) = run.partials.iter().zip(&points).find(|(_, (_, e))| *e <= target) {
-        return (SimulationCost::Measured(p.snapshots, strain_at(p.snapshots as f64), p.wall_s), floor);
+    if let Some((p, _)) = run
+        .partials
+        .iter()
+        .zip(&points)
+        .find(|(_, (_, e))| *e <= target)
+    {
+        return (
+            SimulationCost::Measured(p.snapshots, strain_at(p.snapshots as f64), p.wall_s),
+            floor,
+        );
     }
     let inverse_n = target * target / c - 1.0 / r;
     if inverse_n <= 0.0 {
@@ -104,7 +144,14 @@ fn simulation_cost(run: &ConvergenceRun, output: &str, min: f64, target: f64) ->
     }
     let wall_per_snapshot = (last.wall_s - run.wall_to_steady_s) / last.snapshots as f64;
     let n = 1.0 / inverse_n;
-    (SimulationCost::Extrapolated(n, strain_at(n), run.wall_to_steady_s + n * wall_per_snapshot), floor)
+    (
+        SimulationCost::Extrapolated(
+            n,
+            strain_at(n),
+            run.wall_to_steady_s + n * wall_per_snapshot,
+        ),
+        floor,
+    )
 }
 
 /// Section 3 of the report.
@@ -120,18 +167,49 @@ pub fn markdown(rows: &[Row]) -> String {
         large factor (marked uncertain). The surrogate's time does not include obtaining its inputs.\n\n");
     md.push_str("| profile | mapping: output | surrogate error | surrogate time | simulation to the same error | simulation wall time |\n|---|---|---|---|---|---|\n");
     for r in rows {
-        let uncertain = if near_noise(r) { format!("; uncertain: reference noise {:.2} %", 100.0 * r.reference_noise) } else { String::new() };
-        let (run, wall) = match r.simulation {
-            SimulationCost::Measured(n, strain, wall) => (format!("{n} snapshots, strain {strain:.1} (measured{uncertain})"), minutes(wall)),
-            SimulationCost::Extrapolated(n, strain, wall) => (format!("{n:.0} snapshots, strain {strain:.1} (extrapolated{uncertain})"), minutes(wall)),
-            SimulationCost::BelowReferenceNoise(floor) => (format!("not measurable: below the reference's own noise {:.2} %", 100.0 * floor), "-".into()),
+        let uncertain = if near_noise(r) {
+            format!(
+                "; uncertain: reference noise {:.2} %",
+                100.0 * r.reference_noise
+            )
+        } else {
+            String::new()
         };
-        let _ = writeln!(md, "| {} | {}: {} | {:.2} % | {:.1} ms | {run} | {wall} |", r.scene_id, r.mapping, r.output,
-            100.0 * r.surrogate_error, r.surrogate_ms);
+        let (run, wall) = match r.simulation {
+            SimulationCost::Measured(n, strain, wall) => (
+                format!("{n} snapshots, strain {strain:.1} (measured{uncertain})"),
+                minutes(wall),
+            ),
+            SimulationCost::Extrapolated(n, strain, wall) => (
+                format!("{n:.0} snapshots, strain {strain:.1} (extrapolated{uncertain})"),
+                minutes(wall),
+            ),
+            SimulationCost::BelowReferenceNoise(floor) => (
+                format!(
+                    "not measurable: below the reference's own noise {:.2} %",
+                    100.0 * floor
+                ),
+                "-".into(),
+            ),
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {}: {} | {:.2} % | {:.1} ms | {run} | {wall} |",
+            r.scene_id,
+            r.mapping,
+            r.output,
+            100.0 * r.surrogate_error,
+            r.surrogate_ms
+        );
     }
     md.push('\n');
-    for r in rows.iter().filter(|r| r.mapping == "theta" && !near_noise(r)) {
-        if let SimulationCost::Measured(_, _, wall) | SimulationCost::Extrapolated(_, _, wall) = r.simulation {
+    for r in rows
+        .iter()
+        .filter(|r| r.mapping == "theta" && !near_noise(r))
+    {
+        if let SimulationCost::Measured(_, _, wall) | SimulationCost::Extrapolated(_, _, wall) =
+            r.simulation
+        {
             let _ = writeln!(md, "- {}: the surrogate gives {:.1} % error on {} in {:.1} ms where the simulator needs {}.",
                 r.scene_id, 100.0 * r.surrogate_error, r.output, r.surrogate_ms, minutes(wall));
         }
@@ -147,5 +225,9 @@ fn near_noise(r: &Row) -> bool {
 
 /// A wall time in seconds, as minutes when over two minutes, e.g. `48 s`, `3.2 min`.
 fn minutes(s: f64) -> String {
-    if s < 120.0 { format!("{s:.0} s") } else { format!("{:.1} min", s / 60.0) }
+    if s < 120.0 {
+        format!("{s:.0} s")
+    } else {
+        format!("{:.1} min", s / 60.0)
+    }
 }

@@ -16,20 +16,38 @@ const TOP: i32 = 50;
 /// Draws `results` (in [`crate::stability_sweep::cases`] order) to `path`.
 fn draw(path: &Path, results: &[CaseResult]) -> anyhow::Result<()> {
     let rows = results.len() / DT_FACTORS.len();
-    let size = ((LABEL_W + CELL_W * DT_FACTORS.len() as i32 + 20) as u32, (TOP + CELL_H * rows as i32 + 40) as u32);
+    let size = (
+        (LABEL_W + CELL_W * DT_FACTORS.len() as i32 + 20) as u32,
+        (TOP + CELL_H * rows as i32 + 40) as u32,
+    );
     let root = SVGBackend::new(path, size).into_drawing_area();
     let svg_err = |e| anyhow::anyhow!("drawing {}: {e:?}", path.display());
     root.fill(&WHITE).map_err(svg_err)?;
     let text = |s: String, x: i32, y: i32| Text::new(s, (x, y), ("sans-serif", 13).into_font());
-    root.draw(&text("stability map (columns: dt / automatic dt)".into(), 10, 8)).map_err(svg_err)?;
+    root.draw(&text(
+        "stability map (columns: dt / automatic dt)".into(),
+        10,
+        8,
+    ))
+    .map_err(svg_err)?;
     for (c, f) in DT_FACTORS.iter().enumerate() {
-        root.draw(&text(format!("x {f}"), LABEL_W + CELL_W * c as i32 + 25, TOP - 18)).map_err(svg_err)?;
+        root.draw(&text(
+            format!("x {f}"),
+            LABEL_W + CELL_W * c as i32 + 25,
+            TOP - 18,
+        ))
+        .map_err(svg_err)?;
     }
     for (k, r) in results.iter().enumerate() {
         let (row, col) = ((k / DT_FACTORS.len()) as i32, (k % DT_FACTORS.len()) as i32);
         let (x, y) = (LABEL_W + CELL_W * col, TOP + CELL_H * row);
         if col == 0 {
-            root.draw(&text(format!("{} = {}", r.case.parameter, r.case.value), 10, y + 4)).map_err(svg_err)?;
+            root.draw(&text(
+                format!("{} = {}", r.case.parameter, r.case.value),
+                10,
+                y + 4,
+            ))
+            .map_err(svg_err)?;
         }
         let colour = match (r.status, r.cause_named) {
             ("stable", _) => RGBColor(120, 200, 120),
@@ -37,15 +55,26 @@ fn draw(path: &Path, results: &[CaseResult]) -> anyhow::Result<()> {
             ("blow-up", true) => RGBColor(220, 90, 90),
             _ => RGBColor(240, 170, 60),
         };
-        root.draw(&Rectangle::new([(x, y), (x + CELL_W - 4, y + CELL_H - 4)], colour.filled())).map_err(svg_err)?;
-        root.draw(&text(r.status.to_string(), x + 6, y + 3)).map_err(svg_err)?;
+        root.draw(&Rectangle::new(
+            [(x, y), (x + CELL_W - 4, y + CELL_H - 4)],
+            colour.filled(),
+        ))
+        .map_err(svg_err)?;
+        root.draw(&text(r.status.to_string(), x + 6, y + 3))
+            .map_err(svg_err)?;
     }
-    root.present().with_context(|| format!("writing {}", path.display()))
+    root.present()
+        .with_context(|| format!("writing {}", path.display()))
 }
 
 /// Draws `stability_map.svg` into `dir` and returns the section's markdown for `results`
 /// of a sweep of `size` that took `sweep_s` seconds.
-pub fn section(results: &[CaseResult], size: SweepSize, sweep_s: f64, dir: &Path) -> anyhow::Result<String> {
+pub fn section(
+    results: &[CaseResult],
+    size: SweepSize,
+    sweep_s: f64,
+    dir: &Path,
+) -> anyhow::Result<String> {
     draw(&dir.join("stability_map.svg"), results)?;
     let mut md = String::from("## 4. Stability on stiff and extreme cases\n\n");
     let _ = writeln!(md, "Base scene: phi 0.5, `0.15*sin(2*pi*y/L)`, radii 1 : 1.4, k_n 1e4, xi_min 1e-3, box {e} x {ly} x {e} \
@@ -57,9 +86,26 @@ pub fn section(results: &[CaseResult], size: SweepSize, sweep_s: f64, dir: &Path
     md.push_str("|---|---|---|---|---|---|---|---|---|\n");
     let finished = |r: &CaseResult| matches!(r.status, "stable" | "inaccurate");
     for r in results {
-        let named = if finished(r) { "" } else if r.cause_named { "yes" } else { "no" };
-        let _ = writeln!(md, "| {} | {} | {} | {} | {:.3e} | {} | {:.2e} | {:.4} | {} |", r.case.parameter, r.case.value,
-            r.case.dt_factor, r.status, r.dt, r.dt_limit, r.max_overlap, r.momentum_residual, named);
+        let named = if finished(r) {
+            ""
+        } else if r.cause_named {
+            "yes"
+        } else {
+            "no"
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.3e} | {} | {:.2e} | {:.4} | {} |",
+            r.case.parameter,
+            r.case.value,
+            r.case.dt_factor,
+            r.status,
+            r.dt,
+            r.dt_limit,
+            r.max_overlap,
+            r.momentum_residual,
+            named
+        );
     }
     let count = |f: &dyn Fn(&CaseResult) -> bool| results.iter().filter(|r| f(r)).count();
     let _ = writeln!(md, "\nAt the automatic dt and half of it: {} of {} cases unstable. Above it: {} of {} failed, {} of the failures \
@@ -71,7 +117,11 @@ pub fn section(results: &[CaseResult], size: SweepSize, sweep_s: f64, dir: &Path
         count(&|r| finished(r) && !(r.momentum_residual.is_finite() && r.max_overlap.is_finite())));
     md.push_str("Each failure with its error message:\n\n");
     for r in results.iter().filter(|r| !finished(r)) {
-        let _ = writeln!(md, "- {} = {}, dt x {}: {}", r.case.parameter, r.case.value, r.case.dt_factor, r.message);
+        let _ = writeln!(
+            md,
+            "- {} = {}, dt x {}: {}",
+            r.case.parameter, r.case.value, r.case.dt_factor, r.message
+        );
     }
     md.push('\n');
     Ok(md)

@@ -3,8 +3,8 @@
 //! the automatic time step. Each case is a short run through the ordinary `sim::run`, so
 //! the blow-up checks under test are the real ones.
 use rayon::prelude::*;
-use sim::scene::{Scene, SceneFile};
 use sim::run::RunOptions;
+use sim::scene::{Scene, SceneFile};
 use sim::SimError;
 
 /// How long each case runs, and how big the base box is.
@@ -59,11 +59,18 @@ pub const INACCURATE_RESIDUAL: f64 = 0.1;
 
 /// Every (parameter value, dt factor) pair, for the parameters named in `only` (all when empty).
 pub fn cases(only: &[String]) -> Vec<Case> {
-    PARAMETERS.iter()
+    PARAMETERS
+        .iter()
         .filter(|(p, _)| only.is_empty() || only.iter().any(|o| o == p))
-        .flat_map(|&(parameter, values)| values.iter().flat_map(move |&value| {
-            DT_FACTORS.iter().map(move |&dt_factor| Case { parameter, value, dt_factor })
-        }))
+        .flat_map(|&(parameter, values)| {
+            values.iter().flat_map(move |&value| {
+                DT_FACTORS.iter().map(move |&dt_factor| Case {
+                    parameter,
+                    value,
+                    dt_factor,
+                })
+            })
+        })
         .collect()
 }
 
@@ -79,7 +86,9 @@ fn scene_file(case: &Case, size: SweepSize) -> SceneFile {
         _ => ratio = case.value,
     }
     // Twice the interaction range plus skin, with room to spare, rounded up to whole bins.
-    let edge = size.box_edge.max((2.2 * (2.0 * ratio * 1.025 + 0.1) / 2.0).ceil() * 2.0);
+    let edge = size
+        .box_edge
+        .max((2.2 * (2.0 * ratio * 1.025 + 0.1) / 2.0).ceil() * 2.0);
     let text = format!(
         "name = \"{p}_{v}_dt{f}\"\nseed = 7\n[box]\nl_x = {edge}\nl_y = {ly}\nl_z = {edge}\n\
          [particles]\nphi = {phi}\nradii = [1.0, {ratio}]\n[fluid]\nprofile = \"{amplitude}*sin(2*pi*y/L)\"\n\
@@ -94,8 +103,14 @@ fn scene_file(case: &Case, size: SweepSize) -> SceneFile {
 /// Runs one case to the end of its short averaging, or to its failure.
 fn run_case(case: Case, size: SweepSize) -> CaseResult {
     let mut result = CaseResult {
-        case, status: "refused", dt: f64::NAN, dt_limit: String::new(), max_overlap: f64::NAN,
-        momentum_residual: f64::NAN, message: String::new(), cause_named: false,
+        case,
+        status: "refused",
+        dt: f64::NAN,
+        dt_limit: String::new(),
+        max_overlap: f64::NAN,
+        momentum_residual: f64::NAN,
+        message: String::new(),
+        cause_named: false,
     };
     let scene = match Scene::from_file(scene_file(&result.case, size), false) {
         Ok(s) => s,
@@ -105,13 +120,20 @@ fn run_case(case: Case, size: SweepSize) -> CaseResult {
         }
     };
     let t = sim::timestep::TimeStep::for_scene(&scene);
-    let critical = t.contact_critical.min(t.drag_critical).min(t.lubrication_critical);
+    let critical = t
+        .contact_critical
+        .min(t.drag_critical)
+        .min(t.lubrication_critical);
     (result.dt, result.dt_limit) = (t.dt, format!("{} ({critical:.2e})", t.limit));
     match sim::run::run(&scene, &RunOptions::default(), &mut |_, _| {}) {
         Ok(out) => {
             result.max_overlap = out.summary.max_overlap;
             result.momentum_residual = out.summary.momentum_residual.unwrap_or(f64::NAN);
-            result.status = if result.momentum_residual <= INACCURATE_RESIDUAL { "stable" } else { "inaccurate" };
+            result.status = if result.momentum_residual <= INACCURATE_RESIDUAL {
+                "stable"
+            } else {
+                "inaccurate"
+            };
         }
         Err(e) => {
             result.status = match e {
@@ -129,9 +151,13 @@ fn run_case(case: Case, size: SweepSize) -> CaseResult {
 /// Runs `cases`, in parallel over cases (each case on one thread), in case order, calling
 /// `done` after each.
 pub fn sweep(cases: Vec<Case>, size: SweepSize, done: &(dyn Fn() + Sync)) -> Vec<CaseResult> {
-    cases.into_par_iter().with_max_len(1).map(|c| {
-        let r = run_case(c, size);
-        done();
-        r
-    }).collect()
+    cases
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|c| {
+            let r = run_case(c, size);
+            done();
+            r
+        })
+        .collect()
 }

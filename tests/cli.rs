@@ -7,12 +7,19 @@ fn root() -> PathBuf {
 }
 
 fn suspflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_suspflow")).args(args).current_dir(root()).output().expect("runs suspflow")
+    Command::new(env!("CARGO_BIN_EXE_suspflow"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("runs suspflow")
 }
 
 fn scenes_in(dir: &Path) -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
     v.sort();
     v
 }
@@ -30,12 +37,29 @@ fn bad_scenes_are_refused_naming_the_field() {
     let out_dir = temp_dir("bad");
     for scene in bad {
         let text = std::fs::read_to_string(&scene).unwrap();
-        let expect = text.lines().next().and_then(|l| l.strip_prefix("# expect: ")).expect("first line names the expected message");
-        let out = suspflow(&["simulate", scene.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
+        let expect = text
+            .lines()
+            .next()
+            .and_then(|l| l.strip_prefix("# expect: "))
+            .expect("first line names the expected message");
+        let out = suspflow(&[
+            "simulate",
+            scene.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+        ]);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{} was accepted", scene.display());
-        assert!(stderr.contains(expect), "{}: error does not mention `{expect}`:\n{stderr}", scene.display());
-        assert!(!stderr.contains("panicked"), "{} panicked:\n{stderr}", scene.display());
+        assert!(
+            stderr.contains(expect),
+            "{}: error does not mention `{expect}`:\n{stderr}",
+            scene.display()
+        );
+        assert!(
+            !stderr.contains("panicked"),
+            "{} panicked:\n{stderr}",
+            scene.display()
+        );
     }
 }
 
@@ -45,10 +69,24 @@ fn shipped_scenes_are_valid() {
     scenes.extend(scenes_in(&root().join("tests/scenes/good")));
     assert!(scenes.iter().any(|p| p.ends_with("quick.toml")));
     for scene in scenes {
-        let out = suspflow(&["simulate", scene.to_str().unwrap(), "--out", "unused", "--check"]);
+        let out = suspflow(&[
+            "simulate",
+            scene.to_str().unwrap(),
+            "--out",
+            "unused",
+            "--check",
+        ]);
         let stdout = String::from_utf8_lossy(&out.stdout);
-        assert!(out.status.success(), "{}: {}", scene.display(), String::from_utf8_lossy(&out.stderr));
-        assert!(stdout.contains("dt = ") && stdout.contains("set by"), "{stdout}");
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            scene.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            stdout.contains("dt = ") && stdout.contains("set by"),
+            "{stdout}"
+        );
     }
 }
 
@@ -58,19 +96,51 @@ fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let mut lines = text.lines();
     let header = lines.next().unwrap().split(',').map(String::from).collect();
     // The profile expression is quoted and holds no comma in these scenes.
-    (header, lines.map(|l| l.split(',').map(String::from).collect()).collect())
+    (
+        header,
+        lines
+            .map(|l| l.split(',').map(String::from).collect())
+            .collect(),
+    )
 }
 
 #[test]
 fn golden_run_matches_and_writes_every_output() {
     let out_dir = temp_dir("golden");
-    let out = suspflow(&["simulate", "tests/scenes/good/golden.toml", "--out", out_dir.to_str().unwrap(), "--threads", "1", "--snapshot", "4"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(String::from_utf8_lossy(&out.stdout).contains("profile.csv"), "must say where the profile went");
+    let out = suspflow(&[
+        "simulate",
+        "tests/scenes/good/golden.toml",
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--threads",
+        "1",
+        "--snapshot",
+        "4",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("profile.csv"),
+        "must say where the profile went"
+    );
 
-    let summary: serde_json::Value = serde_json::from_slice(&std::fs::read(out_dir.join("summary.json")).unwrap()).unwrap();
-    for key in ["n_particles", "dt", "dt_limit", "steps", "strain_to_steady", "wall_s", "particle_steps_per_s",
-                "momentum_residual", "mean_overlap", "max_overlap"] {
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out_dir.join("summary.json")).unwrap()).unwrap();
+    for key in [
+        "n_particles",
+        "dt",
+        "dt_limit",
+        "steps",
+        "strain_to_steady",
+        "wall_s",
+        "particle_steps_per_s",
+        "momentum_residual",
+        "mean_overlap",
+        "max_overlap",
+    ] {
         assert!(!summary[key].is_null(), "summary.json lacks {key}");
     }
     assert_eq!(summary["dt_limit"], "lubrication");
@@ -94,9 +164,14 @@ fn golden_run_matches_and_writes_every_output() {
     for (row, (a, b)) in r1.iter().zip(&r2).enumerate() {
         for (c, (x, y)) in a.iter().zip(b).enumerate() {
             match (x.parse::<f64>(), y.parse::<f64>()) {
-                (Ok(x), Ok(y)) => assert!((x - y).abs() <= 1e-6 * y.abs().max(1e-6),
-                    "bin {row}, {}: {x} differs from the golden {y}", h1[c]),
-                _ if h1[c] == "code_version" => assert!(x.starts_with(env!("CARGO_PKG_VERSION")), "code version {x}"),
+                (Ok(x), Ok(y)) => assert!(
+                    (x - y).abs() <= 1e-6 * y.abs().max(1e-6),
+                    "bin {row}, {}: {x} differs from the golden {y}",
+                    h1[c]
+                ),
+                _ if h1[c] == "code_version" => {
+                    assert!(x.starts_with(env!("CARGO_PKG_VERSION")), "code version {x}")
+                }
                 _ => assert_eq!(x, y, "bin {row}, {}", h1[c]),
             }
         }
@@ -106,8 +181,23 @@ fn golden_run_matches_and_writes_every_output() {
 
 #[test]
 fn bench_prints_json_records() {
-    let out = suspflow(&["bench", "--n", "1000", "--threads", "1", "--steps", "20", "--warmup", "0", "--json"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = suspflow(&[
+        "bench",
+        "--n",
+        "1000",
+        "--threads",
+        "1",
+        "--steps",
+        "20",
+        "--warmup",
+        "0",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let records: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let r = &records[0];
     assert_eq!(r["threads"], 1);

@@ -11,7 +11,11 @@ fn root() -> PathBuf {
 }
 
 fn suspflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_suspflow")).args(args).current_dir(root()).output().expect("runs suspflow")
+    Command::new(env!("CARGO_BIN_EXE_suspflow"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("runs suspflow")
 }
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -47,8 +51,22 @@ fn tiny_grid_gives_one_row_per_bin_per_scene_with_provenance() {
     let text = whole_tiny();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    for col in ["scene_id", "profile", "L_y", "phi", "seed", "steady_strain", "momentum_residual", "code_version",
-                "phi_loc", "phi_loc_se", "mu", "mu_se", "Theta", "Delta_v"] {
+    for col in [
+        "scene_id",
+        "profile",
+        "L_y",
+        "phi",
+        "seed",
+        "steady_strain",
+        "momentum_residual",
+        "code_version",
+        "phi_loc",
+        "phi_loc_se",
+        "mu",
+        "mu_se",
+        "Theta",
+        "Delta_v",
+    ] {
         assert!(header.contains(&col), "dataset lacks `{col}`");
     }
     let rows: Vec<&str> = lines.collect();
@@ -59,7 +77,10 @@ fn tiny_grid_gives_one_row_per_bin_per_scene_with_provenance() {
     assert!(ids.windows(2).all(|w| w[0] <= w[1]), "scenes in grid order");
     // Scene 2 is phi = 0.5 with seed 3 (the last key of [vary], seed, varies fastest).
     let row = rows[12];
-    assert!(row.starts_with("tiny_002,\"0.15*sin(2*pi*y/L)\",12,0.5,3,"), "{row}");
+    assert!(
+        row.starts_with("tiny_002,\"0.15*sin(2*pi*y/L)\",12,0.5,3,"),
+        "{row}"
+    );
 }
 
 /// Starts generate, waits until a scene has written a checkpoint, then stops it with
@@ -68,26 +89,63 @@ fn interrupted_then_resumed(name: &str, signal: &str) {
     let dir = temp_dir(name);
     let out = dir.join("tiny.csv");
     let mut child = Command::new(env!("CARGO_BIN_EXE_suspflow"))
-        .args(["generate", "tests/grids/tiny.toml", "--out", out.to_str().unwrap()])
-        .current_dir(root()).stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
+        .args([
+            "generate",
+            "tests/grids/tiny.toml",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .current_dir(root())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
     let work = dir.join("tiny.csv.work");
     let started = Instant::now();
-    let has_checkpoint = || std::fs::read_dir(&work).into_iter().flatten().flatten()
-        .any(|e| e.path().join("checkpoint.json").exists());
+    let has_checkpoint = || {
+        std::fs::read_dir(&work)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .any(|e| e.path().join("checkpoint.json").exists())
+    };
     while !has_checkpoint() {
-        assert!(started.elapsed() < Duration::from_secs(60), "no checkpoint written");
-        assert!(child.try_wait().unwrap().is_none(), "finished before any checkpoint");
+        assert!(
+            started.elapsed() < Duration::from_secs(60),
+            "no checkpoint written"
+        );
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "finished before any checkpoint"
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
-    Command::new("kill").args([signal, &child.id().to_string()]).status().unwrap();
+    Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
     let status = child.wait().unwrap();
-    assert!(!status.success(), "an interrupted generate must not report success");
+    assert!(
+        !status.success(),
+        "an interrupted generate must not report success"
+    );
     let partial = std::fs::read_to_string(&out).unwrap();
-    assert!(partial.lines().count() < whole_tiny().lines().count(), "the stop came too late to test resuming");
+    assert!(
+        partial.lines().count() < whole_tiny().lines().count(),
+        "the stop came too late to test resuming"
+    );
     let o = generate("tests/grids/tiny.toml", &out, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stderr(&o).contains("(resuming)"), "a scene must resume from its checkpoint:\n{}", stderr(&o));
-    assert_eq!(&std::fs::read_to_string(&out).unwrap(), whole_tiny(), "resumed dataset differs");
+    assert!(
+        stderr(&o).contains("(resuming)"),
+        "a scene must resume from its checkpoint:\n{}",
+        stderr(&o)
+    );
+    assert_eq!(
+        &std::fs::read_to_string(&out).unwrap(),
+        whole_tiny(),
+        "resumed dataset differs"
+    );
 }
 
 #[test]
@@ -105,9 +163,15 @@ fn a_failing_scene_is_recorded_and_does_not_stop_the_others() {
     let dir = temp_dir("fails");
     let out = dir.join("fails.csv");
     let o = generate("tests/grids/one_fails.toml", &out, &[]);
-    assert!(!o.status.success(), "a failed scene must make the exit status non-zero");
+    assert!(
+        !o.status.success(),
+        "a failed scene must make the exit status non-zero"
+    );
     let err = stderr(&o);
-    assert!(err.contains("fails_001") && err.contains("blow-up"), "{err}");
+    assert!(
+        err.contains("fails_001") && err.contains("blow-up"),
+        "{err}"
+    );
     assert!(!err.contains("panicked"), "{err}");
     let data = std::fs::read_to_string(&out).unwrap();
     assert_eq!(data.lines().count(), 1 + 6, "only the good scene's 6 bins");
@@ -117,7 +181,11 @@ fn a_failing_scene_is_recorded_and_does_not_stop_the_others() {
     assert!(failed.starts_with("fails_001,failed,\"blow-up"), "{failed}");
     // A re-run does not retry it (the failure is deterministic) and keeps the dataset.
     let again = generate("tests/grids/one_fails.toml", &out, &[]);
-    assert!(stderr(&again).contains("2 already finished or failed"), "{}", stderr(&again));
+    assert!(
+        stderr(&again).contains("2 already finished or failed"),
+        "{}",
+        stderr(&again)
+    );
     assert_eq!(std::fs::read_to_string(&out).unwrap(), data);
 }
 
@@ -127,7 +195,11 @@ fn shards_merged_equal_the_whole_grid() {
     let mut parts = Vec::new();
     for i in 0..3 {
         let out = dir.join(format!("part{i}.csv"));
-        let o = generate("tests/grids/tiny.toml", &out, &["--shard", &format!("{i}/3"), "--jobs", "1"]);
+        let o = generate(
+            "tests/grids/tiny.toml",
+            &out,
+            &["--shard", &format!("{i}/3"), "--jobs", "1"],
+        );
         assert!(o.status.success(), "{}", stderr(&o));
         parts.push(out);
     }
@@ -141,8 +213,18 @@ fn shards_merged_equal_the_whole_grid() {
     assert_eq!(&std::fs::read_to_string(&merged).unwrap(), whole_tiny());
 
     // The same part twice overlaps.
-    let o = suspflow(&["merge", parts[0].to_str().unwrap(), parts[0].to_str().unwrap(), "--out", dir.join("x.csv").to_str().unwrap()]);
-    assert!(!o.status.success() && stderr(&o).contains("also in an earlier file"), "{}", stderr(&o));
+    let o = suspflow(&[
+        "merge",
+        parts[0].to_str().unwrap(),
+        parts[0].to_str().unwrap(),
+        "--out",
+        dir.join("x.csv").to_str().unwrap(),
+    ]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("also in an earlier file"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]
@@ -152,13 +234,27 @@ fn merge_names_the_line_of_a_truncated_or_corrupt_part() {
     let truncated = dir.join("truncated.csv");
     std::fs::write(&truncated, &text[..text.len() / 2]).unwrap();
     let line = text[..text.len() / 2].lines().count();
-    let o = suspflow(&["merge", truncated.to_str().unwrap(), "--out", dir.join("a.csv").to_str().unwrap()]);
+    let o = suspflow(&[
+        "merge",
+        truncated.to_str().unwrap(),
+        "--out",
+        dir.join("a.csv").to_str().unwrap(),
+    ]);
     assert!(!o.status.success());
-    assert!(stderr(&o).contains(&format!("line {line}")) && stderr(&o).contains("truncated.csv"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(&format!("line {line}")) && stderr(&o).contains("truncated.csv"),
+        "{}",
+        stderr(&o)
+    );
 
     let corrupt = dir.join("corrupt.csv");
     std::fs::write(&corrupt, text.replacen(",1e0,", ",1e0x,", 1)).unwrap();
-    let o = suspflow(&["merge", corrupt.to_str().unwrap(), "--out", dir.join("b.csv").to_str().unwrap()]);
+    let o = suspflow(&[
+        "merge",
+        corrupt.to_str().unwrap(),
+        "--out",
+        dir.join("b.csv").to_str().unwrap(),
+    ]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("line 2, column `y`"), "{}", stderr(&o));
     assert!(!dir.join("b.csv").exists(), "nothing written on error");
@@ -187,7 +283,12 @@ fn plot_draws_one_figure_per_scene() {
     let dir = temp_dir("plot");
     let data = dir.join("tiny.csv");
     std::fs::write(&data, whole_tiny()).unwrap();
-    let o = suspflow(&["plot", data.to_str().unwrap(), "--out", dir.join("plots").to_str().unwrap()]);
+    let o = suspflow(&[
+        "plot",
+        data.to_str().unwrap(),
+        "--out",
+        dir.join("plots").to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     for k in 0..4 {
         let svg = std::fs::read_to_string(dir.join(format!("plots/tiny_00{k}.svg"))).unwrap();
@@ -205,10 +306,20 @@ fn compare_finds_a_profile_agrees_with_itself_and_not_with_another_scene() {
     std::fs::write(&a, format!("{}\n{}\n", lines[0], lines[1..7].join("\n"))).unwrap();
     std::fs::write(&b, format!("{}\n{}\n", lines[0], lines[13..19].join("\n"))).unwrap();
     let z2 = |x: &Path, y: &Path| -> f64 {
-        let o = suspflow(&["compare", x.to_str().unwrap(), y.to_str().unwrap(), "--column", "phi_loc"]);
+        let o = suspflow(&[
+            "compare",
+            x.to_str().unwrap(),
+            y.to_str().unwrap(),
+            "--column",
+            "phi_loc",
+        ]);
         assert!(o.status.success(), "{}", stderr(&o));
         let out = String::from_utf8_lossy(&o.stdout).into_owned();
-        let line = out.lines().find(|l| l.starts_with("phi_loc")).unwrap().to_string();
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("phi_loc"))
+            .unwrap()
+            .to_string();
         line.split_whitespace().nth(1).unwrap().parse().unwrap()
     };
     assert_eq!(z2(&a, &a), 0.0);

@@ -17,45 +17,94 @@ fn report(dir: &Path, extra: &[&str]) -> Output {
 
 /// Cells of the markdown table rows of `md` that start with `prefix`.
 fn rows<'a>(md: &'a str, prefix: &str) -> Vec<Vec<&'a str>> {
-    md.lines().filter(|l| l.starts_with(prefix)).map(|l| l.split('|').map(str::trim).collect()).collect()
+    md.lines()
+        .filter(|l| l.starts_with(prefix))
+        .map(|l| l.split('|').map(str::trim).collect())
+        .collect()
 }
 
 fn percent(cell: &str) -> f64 {
-    cell.trim_end_matches(" %").parse().unwrap_or_else(|_| panic!("not a percentage: {cell}"))
+    cell.trim_end_matches(" %")
+        .parse()
+        .unwrap_or_else(|_| panic!("not a percentage: {cell}"))
 }
 
 #[test]
 fn quick_report_on_tiny_scenes_has_every_section_and_catches_instability() {
     let dir = std::env::temp_dir().join(format!("suspflow-report-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let out = report(&dir, &["--scenes", "tests/grids/tiny.toml", "--partial", "32", "--reference", "40", "--only", "k_n"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = report(
+        &dir,
+        &[
+            "--scenes",
+            "tests/grids/tiny.toml",
+            "--partial",
+            "32",
+            "--reference",
+            "40",
+            "--only",
+            "k_n",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let md = std::fs::read_to_string(dir.join("t/report.md")).unwrap();
     for heading in ["## 1. ", "## 2. ", "## 3. ", "## 4. ", "## 5. "] {
         assert!(md.contains(heading), "section {heading} missing");
     }
-    for figure in ["sim_error_vs_strain.svg", "sim_error_vs_wall.svg", "surrogate_error_vs_training_time.svg",
-        "stability_map.svg", "descriptors_along_y.svg"] {
-        let svg = std::fs::read_to_string(dir.join("t").join(figure)).unwrap_or_else(|e| panic!("{figure}: {e}"));
-        assert!(svg.contains("<svg") && svg.len() > 1000, "{figure} is empty");
-        assert!(md.contains(&format!("({figure})")), "{figure} not linked from the report");
+    for figure in [
+        "sim_error_vs_strain.svg",
+        "sim_error_vs_wall.svg",
+        "surrogate_error_vs_training_time.svg",
+        "stability_map.svg",
+        "descriptors_along_y.svg",
+    ] {
+        let svg = std::fs::read_to_string(dir.join("t").join(figure))
+            .unwrap_or_else(|e| panic!("{figure}: {e}"));
+        assert!(
+            svg.contains("<svg") && svg.len() > 1000,
+            "{figure} is empty"
+        );
+        assert!(
+            md.contains(&format!("({figure})")),
+            "{figure} not linked from the report"
+        );
     }
 
     // Section 1: partial averages of 8, 16, 32 snapshots for each of the 4 scenes; the
     // phi_loc error summed over scenes falls from 8 to 32 snapshots.
-    let sim = rows(&md, "| 8 |").into_iter().chain(rows(&md, "| 32 |")).collect::<Vec<_>>();
+    let sim = rows(&md, "| 8 |")
+        .into_iter()
+        .chain(rows(&md, "| 32 |"))
+        .collect::<Vec<_>>();
     assert_eq!(sim.len(), 8, "{md}");
-    let (short, long): (f64, f64) = (sim[..4].iter().map(|r| percent(r[4])).sum(), sim[4..].iter().map(|r| percent(r[4])).sum());
-    assert!(long < short, "phi_loc error does not fall with averaging: {short} -> {long}");
+    let (short, long): (f64, f64) = (
+        sim[..4].iter().map(|r| percent(r[4])).sum(),
+        sim[4..].iter().map(|r| percent(r[4])).sum(),
+    );
+    assert!(
+        long < short,
+        "phi_loc error does not fall with averaging: {short} -> {long}"
+    );
 
     // Section 2: 1000 trees fit the validation set better than 3, for every output.
     for mapping in ["mu", "theta", "dv"] {
         let few = rows(&md, &format!("| {mapping} | 3 |"));
         let many = rows(&md, &format!("| {mapping} | 1000 |"));
         assert_eq!((few.len(), many.len()), (1, 1));
-        let errors = |cell: &str| -> Vec<f64> { cell.split(", ").map(|p| percent(p.split_once(' ').unwrap().1)).collect() };
+        let errors = |cell: &str| -> Vec<f64> {
+            cell.split(", ")
+                .map(|p| percent(p.split_once(' ').unwrap().1))
+                .collect()
+        };
         for (a, b) in errors(few[0][4]).iter().zip(errors(many[0][4])) {
-            assert!(b < *a, "{mapping}: 1000 trees {b} % not better than 3 trees {a} %");
+            assert!(
+                b < *a,
+                "{mapping}: 1000 trees {b} % not better than 3 trees {a} %"
+            );
         }
     }
 
@@ -71,7 +120,10 @@ fn quick_report_on_tiny_scenes_has_every_section_and_catches_instability() {
         let (factor, outcome): (f64, &str) = (r[3].parse().unwrap(), r[4]);
         if factor <= 1.0 {
             assert_eq!(outcome, "stable", "automatic dt unstable: {r:?}");
-            assert!(r[7].parse::<f64>().unwrap().is_finite() && r[8].parse::<f64>().unwrap() < 0.1, "{r:?}");
+            assert!(
+                r[7].parse::<f64>().unwrap().is_finite() && r[8].parse::<f64>().unwrap() < 0.1,
+                "{r:?}"
+            );
         }
         if factor == 16.0 {
             assert_eq!(outcome, "blow-up", "{r:?}");
@@ -91,13 +143,25 @@ fn quick_report_on_tiny_scenes_has_every_section_and_catches_instability() {
 fn bad_report_options_are_refused_with_the_reason() {
     let dir = std::env::temp_dir().join(format!("suspflow-report-bad-{}", std::process::id()));
     for (args, expected) in [
-        (vec!["--partial", "10"], "--partial 10: must be a multiple of 4"),
-        (vec!["--reference", "25"], "--reference 25: must be a multiple of 10"),
-        (vec!["--only", "gravity"], "--only gravity: not a swept parameter"),
+        (
+            vec!["--partial", "10"],
+            "--partial 10: must be a multiple of 4",
+        ),
+        (
+            vec!["--reference", "25"],
+            "--reference 25: must be a multiple of 10",
+        ),
+        (
+            vec!["--only", "gravity"],
+            "--only gravity: not a swept parameter",
+        ),
         (vec!["--train", "no/such.csv"], "no/such.csv: no such file"),
     ] {
         let out = report(&dir, &args);
         let stderr = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success() && stderr.contains(expected), "{args:?}: {stderr}");
+        assert!(
+            !out.status.success() && stderr.contains(expected),
+            "{args:?}: {stderr}"
+        );
     }
 }

@@ -29,13 +29,17 @@ fn suspflow_err(args: &[&str]) -> String {
     let out = suspflow(args);
     let err = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(!out.status.success(), "suspflow {args:?} should fail");
-    assert!(!err.contains("panicked"), "suspflow {args:?} panicked:\n{err}");
+    assert!(
+        !err.contains("panicked"),
+        "suspflow {args:?} panicked:\n{err}"
+    );
     err
 }
 
 /// A fresh directory for one test.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("suspflow-surrogate-{name}-{}", std::process::id()));
+    let dir =
+        std::env::temp_dir().join(format!("suspflow-surrogate-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
@@ -46,7 +50,8 @@ fn s(path: &Path) -> &str {
 }
 
 /// The simulator's `profile.csv` columns (SPEC section 8), in its order.
-const HEADER: &str = "scene_id,profile,L_y,phi,seed,y,u_inf,u,u_se,gdot,gdot_se,sigma_xy,sigma_xy_se,P,P_se,\
+const HEADER: &str =
+    "scene_id,profile,L_y,phi,seed,y,u_inf,u,u_se,gdot,gdot_se,sigma_xy,sigma_xy_se,P,P_se,\
 phi_loc,phi_loc_se,J,J_se,mu,mu_se,Theta,Theta_se,Delta_v,Delta_v_se,f_x,f_x_se,count,count_se";
 
 /// One simulation: its id, profile expression, u_inf(y) for L_y, L_y, phi, number of bins.
@@ -125,7 +130,8 @@ fn table(scenes: &[Scene], no_pressure: &[usize], no_theta: &[usize]) -> String 
             row += 1;
             let y = (bin as f64 + 0.5) * width;
             let u_inf = (scene.u_inf)(y, scene.l_y);
-            let slope = ((scene.u_inf)(y + 1e-3, scene.l_y) - (scene.u_inf)(y - 1e-3, scene.l_y)) / 2e-3;
+            let slope =
+                ((scene.u_inf)(y + 1e-3, scene.l_y) - (scene.u_inf)(y - 1e-3, scene.l_y)) / 2e-3;
             let shear = slope.abs() * scene.l_y / 0.6; // about 0..1 over these profiles
             let wobble = 0.05 * ((7 * bin + 3 * k) % 11) as f64 / 11.0;
             let j = 1e-3 + 0.05 * (shear + wobble);
@@ -208,7 +214,12 @@ fn rel_l2(truth: &[f64], predicted: &[f64], (min, max): (f64, f64)) -> f64 {
 /// The cells of column `name` of a CSV file without quoted commas (a `predict` output).
 fn numeric_column(text: &str, name: &str) -> Vec<f64> {
     let mut lines = text.lines();
-    let index = lines.next().unwrap().split(',').position(|c| c == name).unwrap();
+    let index = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|c| c == name)
+        .unwrap();
     lines
         .map(|l| l.split(',').nth(index).unwrap().parse().unwrap())
         .collect()
@@ -226,11 +237,18 @@ fn train_untuned(data: &Path, models: &Path, mappings: &[&str]) {
 #[test]
 fn train_then_predict_reproduces_a_smooth_law() {
     let dir = scratch("smooth");
-    let data = write(&dir, "train.csv", &table(&training_scenes(16, 40), &[], &[]));
+    let data = write(
+        &dir,
+        "train.csv",
+        &table(&training_scenes(16, 40), &[], &[]),
+    );
     let models = dir.join("models");
     train_untuned(&data, &models, &[]);
     for m in ["mu", "theta", "dv"] {
-        assert!(models.join(format!("{m}.json")).exists() && models.join(format!("{m}.meta.json")).exists());
+        assert!(
+            models.join(format!("{m}.json")).exists()
+                && models.join(format!("{m}.meta.json")).exists()
+        );
     }
     let pred = dir.join("pred.csv");
     suspflow_ok(&[
@@ -258,7 +276,11 @@ fn train_then_predict_reproduces_a_smooth_law() {
         })
         .collect();
     assert_eq!(got.len(), truth.len());
-    let err = (got.iter().zip(&truth).map(|(a, b)| (a - b).powi(2)).sum::<f64>()
+    let err = (got
+        .iter()
+        .zip(&truth)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
         / truth.iter().map(|b| b * b).sum::<f64>())
     .sqrt();
     assert!(err < 0.01, "in-sample relative error {err}");
@@ -269,15 +291,27 @@ fn train_then_predict_reproduces_a_smooth_law() {
 fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
     let dir = scratch("validate-json");
     let train = write(&dir, "train.csv", &table(&training_scenes(8, 20), &[], &[]));
-    let validate = write(&dir, "validate.csv", &table(&validation_scenes(25), &[], &[]));
+    let validate = write(
+        &dir,
+        "validate.csv",
+        &table(&validation_scenes(25), &[], &[]),
+    );
     let models = dir.join("models");
     train_untuned(&train, &models, &[]);
-    let out = suspflow_ok(&["validate", "--models", s(&models), "--data", s(&validate), "--json"]);
+    let out = suspflow_ok(&[
+        "validate",
+        "--models",
+        s(&models),
+        "--data",
+        s(&validate),
+        "--json",
+    ]);
     let records: Vec<Value> = serde_json::from_slice(&out.stdout).expect("stdout is only JSON");
     let keys: BTreeSet<(String, String, String)> = records
         .iter()
         .map(|r| {
-            let fields: BTreeSet<&str> = r.as_object().unwrap().keys().map(String::as_str).collect();
+            let fields: BTreeSet<&str> =
+                r.as_object().unwrap().keys().map(String::as_str).collect();
             assert_eq!(
                 fields,
                 BTreeSet::from(["mapping", "output", "profile", "rel_l2"]),
@@ -323,7 +357,11 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
             .map(|l| l.split(',').nth(index).unwrap().parse().unwrap())
             .collect()
     };
-    let is_a: Vec<bool> = validation_text.lines().skip(1).map(|l| l.contains(SIN_COS)).collect();
+    let is_a: Vec<bool> = validation_text
+        .lines()
+        .skip(1)
+        .map(|l| l.contains(SIN_COS))
+        .collect();
     for m in ["mu", "theta", "dv"] {
         let pred = dir.join(format!("{m}.pred.csv"));
         suspflow_ok(&[
@@ -340,8 +378,14 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
         for (j, o) in meta["outputs"].as_array().unwrap().iter().enumerate() {
             let o = o.as_str().unwrap();
             let range = &meta["scaling"]["ranges"][j];
-            let training_range = (range["min"].as_f64().unwrap(), range["max"].as_f64().unwrap());
-            let (truth, predicted) = (truth_of(o), numeric_column(&predicted_text, &format!("{o}_pred")));
+            let training_range = (
+                range["min"].as_f64().unwrap(),
+                range["max"].as_f64().unwrap(),
+            );
+            let (truth, predicted) = (
+                truth_of(o),
+                numeric_column(&predicted_text, &format!("{o}_pred")),
+            );
             let part = |keep: bool| -> (Vec<f64>, Vec<f64>) {
                 let pick = |v: &[f64]| {
                     v.iter()
@@ -353,7 +397,11 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
                 (pick(&truth), pick(&predicted))
             };
             let ((ta, pa), (tb, pb)) = (part(true), part(false));
-            for (profile, t, p) in [(SIN_COS, &ta, &pa), (SIN3, &tb, &pb), ("all", &truth, &predicted)] {
+            for (profile, t, p) in [
+                (SIN_COS, &ta, &pa),
+                (SIN3, &tb, &pb),
+                ("all", &truth, &predicted),
+            ] {
                 let expected = rel_l2(t, p, training_range);
                 let got = lookup(m, o, profile);
                 assert!(
@@ -364,7 +412,9 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
             // The validation set's own ranges would give another number.
             let (lo, hi) = truth
                 .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                    (a.min(v), b.max(v))
+                });
             let own = rel_l2(&truth, &predicted, (lo, hi));
             assert!(
                 (own - lookup(m, o, "all")).abs() > 1e-6 * own,
@@ -379,7 +429,11 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
 fn validate_prints_every_section_and_draws_one_figure_per_profile() {
     let dir = scratch("validate-text");
     let train = write(&dir, "train.csv", &table(&training_scenes(8, 20), &[], &[]));
-    let validate = write(&dir, "validate.csv", &table(&validation_scenes(25), &[], &[]));
+    let validate = write(
+        &dir,
+        "validate.csv",
+        &table(&validation_scenes(25), &[], &[]),
+    );
     let models = dir.join("models");
     train_untuned(&train, &models, &[]);
     let out = suspflow_ok(&["validate", "--models", s(&models), "--data", s(&validate)]);
@@ -464,7 +518,15 @@ fn train_chooses_hyper_parameters_by_leaving_one_simulation_out() {
     let dir = scratch("tune");
     let train = write(&dir, "train.csv", &table(&training_scenes(5, 10), &[], &[]));
     let models = dir.join("models");
-    let out = suspflow_ok(&["train", "--data", s(&train), "--out", s(&models), "--mapping", "theta"]);
+    let out = suspflow_ok(&[
+        "train",
+        "--data",
+        s(&train),
+        "--out",
+        s(&models),
+        "--mapping",
+        "theta",
+    ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         stdout.contains("over 5 simulations") && stdout.contains("XGBoost defaults"),
@@ -473,10 +535,15 @@ fn train_chooses_hyper_parameters_by_leaving_one_simulation_out() {
     let record = read_json(&models.join("theta.tuning.json"));
     assert_eq!(record["folds"], 5);
     let grid = &record["grid"];
-    let size: usize = ["n_estimators", "max_depth", "learning_rate", "min_child_weight"]
-        .iter()
-        .map(|k| grid[k].as_array().unwrap().len().max(1))
-        .product();
+    let size: usize = [
+        "n_estimators",
+        "max_depth",
+        "learning_rate",
+        "min_child_weight",
+    ]
+    .iter()
+    .map(|k| grid[k].as_array().unwrap().len().max(1))
+    .product();
     let scores = record["scores"].as_array().unwrap();
     assert_eq!(scores.len(), size);
     let means: Vec<f64> = scores.iter().map(|s| s["mean"].as_f64().unwrap()).collect();
@@ -491,7 +558,10 @@ fn train_chooses_hyper_parameters_by_leaving_one_simulation_out() {
     }
     let untuned = &record["untuned"]["params"];
     assert_eq!(
-        (untuned["n_estimators"].as_u64(), untuned["max_depth"].as_u64()),
+        (
+            untuned["n_estimators"].as_u64(),
+            untuned["max_depth"].as_u64()
+        ),
         (Some(100), Some(6))
     );
     assert_eq!(untuned["learning_rate"].as_f64(), Some(0.3));
@@ -501,7 +571,10 @@ fn train_chooses_hyper_parameters_by_leaving_one_simulation_out() {
     // Untuned training drops the record that would no longer describe the model.
     train_untuned(&train, &models, &["theta"]);
     assert!(!models.join("theta.tuning.json").exists());
-    assert_eq!(read_json(&models.join("theta.meta.json"))["hyper_parameters"], *untuned);
+    assert_eq!(
+        read_json(&models.join("theta.meta.json"))["hyper_parameters"],
+        *untuned
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -513,7 +586,14 @@ fn empty_cells_are_skipped_and_counted_per_mapping() {
     let (no_pressure, no_theta) = ([3, 17, 40], [5, 6, 50, 71]);
     let train = write(&dir, "train.csv", &table(&scenes, &no_pressure, &no_theta));
     let models = dir.join("models");
-    let out = suspflow_ok(&["train", "--data", s(&train), "--out", s(&models), "--no-tune"]);
+    let out = suspflow_ok(&[
+        "train",
+        "--data",
+        s(&train),
+        "--out",
+        s(&models),
+        "--no-tune",
+    ]);
     let err = String::from_utf8_lossy(&out.stderr);
     for (mapping, skipped) in [("mu", 3), ("theta", 7), ("dv", 3)] {
         assert!(
@@ -526,8 +606,19 @@ fn empty_cells_are_skipped_and_counted_per_mapping() {
             (Some(rows - skipped), Some(skipped))
         );
     }
-    let validate = write(&dir, "validate.csv", &table(&validation_scenes(20), &[2, 30], &[]));
-    let out = suspflow_ok(&["validate", "--models", s(&models), "--data", s(&validate), "--json"]);
+    let validate = write(
+        &dir,
+        "validate.csv",
+        &table(&validation_scenes(20), &[2, 30], &[]),
+    );
+    let out = suspflow_ok(&[
+        "validate",
+        "--models",
+        s(&models),
+        "--data",
+        s(&validate),
+        "--json",
+    ]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("theta: 2 of 40 rows"));
     let records: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(records.len(), 15);
@@ -559,8 +650,19 @@ fn bad_surrogate_inputs_give_clear_errors() {
     let dir = scratch("bad");
     let train = write(&dir, "train.csv", &table(&training_scenes(4, 10), &[], &[]));
     let models = dir.join("models");
-    let err = suspflow_err(&["train", "--data", s(&train), "--out", s(&models), "--mapping", "nope"]);
-    assert!(err.contains("unknown mapping `nope`") && err.contains("theta"), "{err}");
+    let err = suspflow_err(&[
+        "train",
+        "--data",
+        s(&train),
+        "--out",
+        s(&models),
+        "--mapping",
+        "nope",
+    ]);
+    assert!(
+        err.contains("unknown mapping `nope`") && err.contains("theta"),
+        "{err}"
+    );
     train_untuned(&train, &models, &[]);
     let good = table(&validation_scenes(10), &[], &[]);
     let validate = |name: &str, text: &str| {
@@ -608,7 +710,13 @@ fn bad_surrogate_inputs_give_clear_errors() {
         err.contains("unknown mapping `viscosity`") && err.contains("mu, theta, dv"),
         "{err}"
     );
-    let err = suspflow_err(&["validate", "--models", s(&dir.join("none")), "--data", s(&good_path)]);
+    let err = suspflow_err(&[
+        "validate",
+        "--models",
+        s(&dir.join("none")),
+        "--data",
+        s(&good_path),
+    ]);
     assert!(
         err.contains("loading model `mu`") && err.contains("none/mu.meta.json"),
         "{err}"
@@ -639,13 +747,28 @@ fn bad_surrogate_inputs_give_clear_errors() {
         "--train",
         s(&good_path),
     ]);
-    assert!(err.contains("--train") && err.contains("hash differs"), "{err}");
+    assert!(
+        err.contains("--train") && err.contains("hash differs"),
+        "{err}"
+    );
     // predict: a feature missing, and an undefined feature value.
     let missing = write(&dir, "missing.csv", "scene_id,phi,J\ns0,0.5,0.001\n");
-    let err = suspflow_err(&["predict", "--model", s(&models.join("mu")), "--input", s(&missing)]);
+    let err = suspflow_err(&[
+        "predict",
+        "--model",
+        s(&models.join("mu")),
+        "--input",
+        s(&missing),
+    ]);
     assert!(err.contains("lacks column(s) phi_loc"), "{err}");
     let hole = write(&dir, "hole.csv", &table(&validation_scenes(10), &[6], &[]));
-    let err = suspflow_err(&["predict", "--model", s(&models.join("mu")), "--input", s(&hole)]);
+    let err = suspflow_err(&[
+        "predict",
+        "--model",
+        s(&models.join("mu")),
+        "--input",
+        s(&hole),
+    ]);
     assert!(err.contains("data row 6, column `J` is empty"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -677,14 +800,21 @@ fn bench_predict_times_load_read_and_predict_of_a_50_bin_profile() {
         ["mu", "dv"]
     );
     for r in &records {
-        assert_eq!((r["rows"].as_u64(), r["runs"].as_u64()), (Some(50), Some(3)), "{r}");
+        assert_eq!(
+            (r["rows"].as_u64(), r["runs"].as_u64()),
+            (Some(50), Some(3)),
+            "{r}"
+        );
         let ms = |k: &str| r[k].as_f64().unwrap();
         assert!(
             ms("min_ms") > 0.0 && ms("min_ms") <= ms("median_ms") && ms("min_ms") <= ms("first_ms"),
             "{r}"
         );
         for stage in ["load_ms", "read_ms", "predict_ms"] {
-            assert!(ms(stage) > 0.0 && ms(stage) <= ms("median_ms") * 3.0, "{stage}: {r}");
+            assert!(
+                ms(stage) > 0.0 && ms(stage) <= ms("median_ms") * 3.0,
+                "{stage}: {r}"
+            );
         }
     }
     let out = suspflow_ok(&[
@@ -703,7 +833,13 @@ fn bench_predict_times_load_read_and_predict_of_a_50_bin_profile() {
         text.starts_with("mu: 7 rows, load + read + predict: median") && text.contains(" ms"),
         "{text}"
     );
-    let err = suspflow_err(&["bench-predict", "--models", s(&models), "--mapping", "theta"]);
+    let err = suspflow_err(&[
+        "bench-predict",
+        "--models",
+        s(&models),
+        "--mapping",
+        "theta",
+    ]);
     assert!(err.contains("theta.meta.json"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -62,7 +62,11 @@ impl Bins {
             share(self.index(y_i), 1.0);
             return;
         }
-        let (lo, hi) = if r_y > 0.0 { (y_i, y_i + r_y) } else { (y_i + r_y, y_i) };
+        let (lo, hi) = if r_y > 0.0 {
+            (y_i, y_i + r_y)
+        } else {
+            (y_i + r_y, y_i)
+        };
         self.for_each_overlap(lo, hi, |k, s, e| share(k, (e - s) / len));
     }
 

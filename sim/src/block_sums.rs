@@ -18,7 +18,12 @@ pub struct BlockSums {
 impl BlockSums {
     /// Room for `blocks * per_block` snapshots.
     pub fn new(n_bins: usize, blocks: usize, per_block: usize) -> Self {
-        Self { n_bins, per_block, sums: vec![vec![0.0; FIELDS * n_bins]; blocks], taken: 0 }
+        Self {
+            n_bins,
+            per_block,
+            sums: vec![vec![0.0; FIELDS * n_bins]; blocks],
+            taken: 0,
+        }
     }
 
     /// Number of snapshots when full.

@@ -22,7 +22,10 @@ impl CellList {
             cell_size[k] = pbox.len[k] / dims[k] as f64;
         }
         let n_cells = dims[0] * dims[1] * dims[2];
-        let cells: Vec<usize> = positions.iter().map(|x| Self::cell_index(&dims, &cell_size, x)).collect();
+        let cells: Vec<usize> = positions
+            .iter()
+            .map(|x| Self::cell_index(&dims, &cell_size, x))
+            .collect();
         let mut start = vec![0usize; n_cells + 1];
         for &c in &cells {
             start[c + 1] += 1;
@@ -36,7 +39,12 @@ impl CellList {
             particles[fill[c]] = i as u32;
             fill[c] += 1;
         }
-        Self { dims, cell_size, start, particles }
+        Self {
+            dims,
+            cell_size,
+            start,
+            particles,
+        }
     }
 
     fn cell_index(dims: &[usize; 3], size: &Vec3, x: &Vec3) -> usize {

@@ -15,7 +15,11 @@ pub struct ContactLaw {
 impl ContactLaw {
     /// Contact law with `k_t = 2/7 k_n` (SPEC section 1).
     pub fn new(k_n: f64, mu_p: f64) -> Self {
-        Self { k_n, k_t: 2.0 / 7.0 * k_n, mu_p }
+        Self {
+            k_n,
+            k_t: 2.0 / 7.0 * k_n,
+            mu_p,
+        }
     }
 
     /// Whether the law has a tangential part that needs per-pair history.
@@ -65,6 +69,10 @@ impl ContactLaw {
         }
         let force_i = -self.k_t * *spring;
         let nxf = n.cross(&force_i);
-        PairLoad { force_i, torque_i: nxf * a_i, torque_j: nxf * a_j }
+        PairLoad {
+            force_i,
+            torque_i: nxf * a_i,
+            torque_j: nxf * a_j,
+        }
     }
 }

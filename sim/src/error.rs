@@ -18,7 +18,13 @@ pub enum SimError {
     SceneFile { path: String, message: String },
     /// The integration became unstable.
     #[error("blow-up at step {step} (t = {time:.4}), particle {particle}: {what}. Likely cause: {cause}")]
-    BlowUp { step: u64, time: f64, particle: usize, what: String, cause: String },
+    BlowUp {
+        step: u64,
+        time: f64,
+        particle: usize,
+        what: String,
+        cause: String,
+    },
     /// The run did not reach a steady state within its strain budget.
     #[error("no steady state within the budget of strain {budget}: {detail}")]
     NotSteady { budget: f64, detail: String },
@@ -39,6 +45,9 @@ pub enum SimError {
 impl SimError {
     /// Shorthand for a field error.
     pub fn field(field: &str, message: impl Into<String>) -> Self {
-        SimError::Field { field: field.to_string(), message: message.into() }
+        SimError::Field {
+            field: field.to_string(),
+            message: message.into(),
+        }
     }
 }

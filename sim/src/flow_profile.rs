@@ -33,7 +33,12 @@ const PERIODIC_TOLERANCE: f64 = 1e-8;
 #[inline]
 fn hermite_weights(t: f64, h: f64) -> [f64; 4] {
     let (t2, t3) = (t * t, t * t * t);
-    [2.0 * t3 - 3.0 * t2 + 1.0, (t3 - 2.0 * t2 + t) * h, 3.0 * t2 - 2.0 * t3, (t3 - t2) * h]
+    [
+        2.0 * t3 - 3.0 * t2 + 1.0,
+        (t3 - 2.0 * t2 + t) * h,
+        3.0 * t2 - 2.0 * t3,
+        (t3 - t2) * h,
+    ]
 }
 
 /// Step of the finite-difference fallback, relative to `L_y`.
@@ -155,7 +160,11 @@ impl FlowProfile {
     /// skip the costly periodic reduction).
     #[inline]
     fn locate(&self, y: f64) -> (usize, f64) {
-        let y = if (0.0..self.l_y).contains(&y) { y } else { y.rem_euclid(self.l_y) };
+        let y = if (0.0..self.l_y).contains(&y) {
+            y
+        } else {
+            y.rem_euclid(self.l_y)
+        };
         let x = y / self.spacing;
         // `x` may round up to TABLE_INTERVALS; a NaN `x` casts to 0 and propagates via `t`.
         let i = (x as usize).min(TABLE_INTERVALS - 1);

@@ -50,7 +50,11 @@ impl ContactStats {
 
     /// Mean overlap over contacts (units a), 0 without contacts.
     pub fn mean_overlap(&self) -> f64 {
-        if self.contacts == 0 { 0.0 } else { self.overlap_sum / self.contacts as f64 }
+        if self.contacts == 0 {
+            0.0
+        } else {
+            self.overlap_sum / self.contacts as f64
+        }
     }
 }
 
@@ -95,7 +99,11 @@ impl ForceAccumulator {
         profile: &FlowProfile,
         dt: f64,
     ) -> ContactStats {
-        let chunks = if p.len() < PARALLEL_MIN_PARTICLES { 1 } else { rayon::current_num_threads().max(1) };
+        let chunks = if p.len() < PARALLEL_MIN_PARTICLES {
+            1
+        } else {
+            rayon::current_num_threads().max(1)
+        };
         let n = p.len();
         // The state is read while the load arrays are written: move them out (no copy).
         let mut force = std::mem::take(&mut p.force);
@@ -105,9 +113,31 @@ impl ForceAccumulator {
             for i in 0..n {
                 (force[i], torque[i]) = field.one_body(state, profile, i);
             }
-            pair_range(field, state, list, springs, pbox, dt, 0..n, 0, &mut force, &mut torque)
+            pair_range(
+                field,
+                state,
+                list,
+                springs,
+                pbox,
+                dt,
+                0..n,
+                0,
+                &mut force,
+                &mut torque,
+            )
         } else {
-            self.parallel(field, state, list, springs, pbox, profile, dt, chunks, &mut force, &mut torque)
+            self.parallel(
+                field,
+                state,
+                list,
+                springs,
+                pbox,
+                profile,
+                dt,
+                chunks,
+                &mut force,
+                &mut torque,
+            )
         };
         p.force = force;
         p.torque = torque;
@@ -135,14 +165,23 @@ impl ForceAccumulator {
         let n = state.len();
         self.split(list, chunks);
         self.buffers.resize_with(chunks - 1, Default::default);
-        force.par_iter_mut().zip(torque.par_iter_mut()).enumerate().with_min_len(256).for_each(|(i, (f, t))| {
-            (*f, *t) = field.one_body(state, profile, i);
-        });
+        force
+            .par_iter_mut()
+            .zip(torque.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(i, (f, t))| {
+                (*f, *t) = field.one_body(state, profile, i);
+            });
         let bounds = &self.bounds;
         let mut spring_parts: Vec<&mut [Vec3]> = Vec::with_capacity(chunks);
         let mut rest = springs;
         for k in 0..chunks {
-            let len = if rest.is_empty() { 0 } else { list.start[bounds[k + 1]] - list.start[bounds[k]] };
+            let len = if rest.is_empty() {
+                0
+            } else {
+                list.start[bounds[k + 1]] - list.start[bounds[k]]
+            };
             let (head, tail) = rest.split_at_mut(len);
             spring_parts.push(head);
             rest = tail;
@@ -162,13 +201,28 @@ impl ForceAccumulator {
             .zip(spring_parts.into_par_iter())
             .enumerate()
             .map(|(k, ((f, t, offset), part))| {
-                pair_range(field, state, list, part, pbox, dt, bounds[k]..bounds[k + 1], offset, f, t)
+                pair_range(
+                    field,
+                    state,
+                    list,
+                    part,
+                    pbox,
+                    dt,
+                    bounds[k]..bounds[k + 1],
+                    offset,
+                    f,
+                    t,
+                )
             })
             .collect();
         let buffers = &self.buffers;
         let first = bounds[1];
-        force[first..].par_iter_mut().zip(torque[first..].par_iter_mut()).enumerate().with_min_len(256).for_each(
-            |(r, (f, t))| {
+        force[first..]
+            .par_iter_mut()
+            .zip(torque[first..].par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(r, (f, t))| {
                 let i = first + r;
                 for (k, (bf, bt)) in buffers.iter().enumerate() {
                     let offset = bounds[k + 1];
@@ -178,8 +232,7 @@ impl ForceAccumulator {
                     *f += bf[i - offset];
                     *t += bt[i - offset];
                 }
-            },
-        );
+            });
         let mut total = ContactStats::default();
         for s in &stats {
             total.merge(s);
@@ -209,13 +262,22 @@ fn pair_range(
     for i in rows {
         for q in list.start[i]..list.start[i + 1] {
             let j = list.neighbours[q] as usize;
-            let spring = if frictional { Some(&mut springs[q - first_pair]) } else { None };
+            let spring = if frictional {
+                Some(&mut springs[q - first_pair])
+            } else {
+                None
+            };
             if let Some(out) = field.pair(p, pbox, i, j, spring, dt) {
                 force[i - offset] += out.load.force_i;
                 force[j - offset] -= out.load.force_i;
                 torque[i - offset] += out.load.torque_i;
                 torque[j - offset] += out.load.torque_j;
-                stats.record(out.overlap, field.constants(p.species[i], p.species[j]).a_min, i, j);
+                stats.record(
+                    out.overlap,
+                    field.constants(p.species[i], p.species[j]).a_min,
+                    i,
+                    j,
+                );
             }
         }
     }

@@ -60,7 +60,11 @@ impl ForceField {
                 let lubrication = f
                     .lubrication
                     .then(|| LubricationCoefficients::new(a_i, a_j, eta, f.xi_min, f.xi_max));
-                let reach = if f.lubrication { contact_distance * (1.0 + 0.5 * f.xi_max) } else { contact_distance };
+                let reach = if f.lubrication {
+                    contact_distance * (1.0 + 0.5 * f.xi_max)
+                } else {
+                    contact_distance
+                };
                 max_cutoff = max_cutoff.max(reach);
                 pairs.push(PairConstants {
                     contact_distance,
@@ -123,14 +127,28 @@ impl ForceField {
         let dv = p.vel[j] - p.vel[i];
         let mut load = PairLoad::default();
         if let Some(lub) = &c.lubrication {
-            load = lub.load(gap(d, p.radius[i], p.radius[j]), &n, &dv, &p.omega[i], &p.omega[j]);
+            load = lub.load(
+                gap(d, p.radius[i], p.radius[j]),
+                &n,
+                &dv,
+                &p.omega[i],
+                &p.omega[j],
+            );
         }
         if let Some(contact) = &self.contact {
             if overlap > 0.0 {
                 load.force_i += contact.normal(overlap, &n);
                 if let Some(s) = spring {
                     let t = contact.tangential(
-                        s, overlap, &n, &dv, &p.omega[i], &p.omega[j], p.radius[i], p.radius[j], dt,
+                        s,
+                        overlap,
+                        &n,
+                        &dv,
+                        &p.omega[i],
+                        &p.omega[j],
+                        p.radius[i],
+                        p.radius[j],
+                        dt,
                     );
                     load.add(&t);
                 }
@@ -150,6 +168,9 @@ impl ForceField {
         }
         let (u, du_dy) = profile.u_and_slope(p.pos[i].y);
         let a = p.radius[i];
-        (drag::force(self.eta, a, u, &p.vel[i]), drag::torque(self.eta, a, du_dy, &p.omega[i]))
+        (
+            drag::force(self.eta, a, u, &p.vel[i]),
+            drag::torque(self.eta, a, du_dy, &p.omega[i]),
+        )
     }
 }

@@ -70,8 +70,12 @@ fn set_field(table: &mut Table, path: &str, value: Value) -> Result<(), SimError
             here.insert(key.to_string(), value);
             return Ok(());
         }
-        let next = here.entry(key.to_string()).or_insert_with(|| Value::Table(Table::new()));
-        here = next.as_table_mut().ok_or_else(|| grid_error(format!("`{path}`: `{key}` is a value, not a section")))?;
+        let next = here
+            .entry(key.to_string())
+            .or_insert_with(|| Value::Table(Table::new()));
+        here = next
+            .as_table_mut()
+            .ok_or_else(|| grid_error(format!("`{path}`: `{key}` is a value, not a section")))?;
     }
     Ok(())
 }
@@ -79,7 +83,8 @@ fn set_field(table: &mut Table, path: &str, value: Value) -> Result<(), SimError
 impl Grid {
     /// Reads and expands a grid file; every scene is validated as a scene file would be.
     pub fn from_path(path: &Path, strict: bool) -> Result<Grid, SimError> {
-        let text = std::fs::read_to_string(path).map_err(|e| grid_error(format!("{}: {e}", path.display())))?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| grid_error(format!("{}: {e}", path.display())))?;
         Self::from_toml(&text, strict).map_err(|e| match e {
             SimError::Grid(m) => grid_error(format!("{}: {m}", path.display())),
             other => other,
@@ -89,22 +94,41 @@ impl Grid {
     /// Expands grid text (see the module documentation).
     pub fn from_toml(text: &str, strict: bool) -> Result<Grid, SimError> {
         let file: GridFile = toml::from_str(text).map_err(|e| grid_error(e.to_string()))?;
-        if file.name.is_empty() || !file.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
-            return Err(grid_error(format!("name `{}` must be non-empty letters, digits, - or _ (it names files)", file.name)));
+        if file.name.is_empty()
+            || !file
+                .name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+        {
+            return Err(grid_error(format!(
+                "name `{}` must be non-empty letters, digits, - or _ (it names files)",
+                file.name
+            )));
         }
         let mut lists = Vec::new();
         for (key, value) in &file.vary {
             match value {
-                Value::Array(values) if !values.is_empty() => lists.push((key.as_str(), values.as_slice())),
-                _ => return Err(grid_error(format!("vary.\"{key}\" must be a non-empty list of values"))),
+                Value::Array(values) if !values.is_empty() => {
+                    lists.push((key.as_str(), values.as_slice()))
+                }
+                _ => {
+                    return Err(grid_error(format!(
+                        "vary.\"{key}\" must be a non-empty list of values"
+                    )))
+                }
             }
             if file.cases.iter().any(|c| c.contains_key(key)) {
-                return Err(grid_error(format!("`{key}` is both in [vary] and in a [[cases]] table")));
+                return Err(grid_error(format!(
+                    "`{key}` is both in [vary] and in a [[cases]] table"
+                )));
             }
         }
         let no_case = BTreeMap::new();
-        let cases: Vec<&BTreeMap<String, Value>> =
-            if file.cases.is_empty() { vec![&no_case] } else { file.cases.iter().collect() };
+        let cases: Vec<&BTreeMap<String, Value>> = if file.cases.is_empty() {
+            vec![&no_case]
+        } else {
+            file.cases.iter().collect()
+        };
         let per_case: usize = lists.iter().map(|(_, v)| v.len()).product();
         let total = cases.len() * per_case;
         let width = total.saturating_sub(1).to_string().len().max(3);
@@ -123,13 +147,18 @@ impl Grid {
                     rest /= values.len();
                 }
                 table.insert("name".into(), Value::String(id.clone()));
-                let scene_file: SceneFile = Value::Table(table).try_into()
+                let scene_file: SceneFile = Value::Table(table)
+                    .try_into()
                     .map_err(|e| grid_error(format!("scene {id}: {e}")))?;
-                let scene = Scene::from_file(scene_file, strict).map_err(|e| grid_error(format!("scene {id}: {e}")))?;
+                let scene = Scene::from_file(scene_file, strict)
+                    .map_err(|e| grid_error(format!("scene {id}: {e}")))?;
                 scenes.push(GridScene { index, id, scene });
             }
         }
-        Ok(Grid { name: file.name, scenes })
+        Ok(Grid {
+            name: file.name,
+            scenes,
+        })
     }
 
     /// The scenes of shard `i` of `n` (0 <= i < n): every n-th scene from the i-th, so that

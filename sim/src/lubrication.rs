@@ -79,12 +79,17 @@ impl LubricationCoefficients {
         let (y11c, y12c, y22c) = (self.yc11 * log, self.yc12 * log, self.yc22 * log);
         let dv_n = n.dot(dv);
         let dv_t = dv - n * dv_n;
-        let force_i = n * (x11a * dv_n) + dv_t * y11a + omega_i.cross(n) * y11b + omega_j.cross(n) * y21b;
+        let force_i =
+            n * (x11a * dv_n) + dv_t * y11a + omega_i.cross(n) * y11b + omega_j.cross(n) * y21b;
         let dv_x_n = dv.cross(n);
         let tangential = |w: Vec3| w - n * n.dot(&w);
         let torque_i = dv_x_n * y11b - tangential(omega_i * y11c + omega_j * y12c);
         let torque_j = dv_x_n * y21b - tangential(omega_i * y12c + omega_j * y22c);
-        PairLoad { force_i, torque_i, torque_j }
+        PairLoad {
+            force_i,
+            torque_i,
+            torque_j,
+        }
     }
 }
 

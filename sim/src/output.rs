@@ -15,7 +15,9 @@ use std::path::Path;
 /// version), the bin position and streaming velocity, then every observable and its
 /// standard error.
 pub fn profile_header() -> String {
-    let mut h = String::from("scene_id,profile,L_y,phi,seed,steady_strain,momentum_residual,code_version,y,u_inf");
+    let mut h = String::from(
+        "scene_id,profile,L_y,phi,seed,steady_strain,momentum_residual,code_version,y,u_inf",
+    );
     for c in COLUMNS {
         let _ = write!(h, ",{c},{c}_se");
     }
@@ -24,7 +26,11 @@ pub fn profile_header() -> String {
 
 /// Formats a value; undefined (NaN) values become empty fields.
 fn num(x: f64) -> String {
-    if x.is_finite() { format!("{x:e}") } else { String::new() }
+    if x.is_finite() {
+        format!("{x:e}")
+    } else {
+        String::new()
+    }
 }
 
 /// The rows of a profile table for `profile` of `scene`, run as `summary` says (no header).
@@ -33,9 +39,20 @@ pub fn profile_rows(scene: &Scene, profile: &Profile, summary: &RunSummary) -> S
     let mut out = String::new();
     let (mean, se) = (profile.mean.columns(), profile.se.columns());
     for k in 0..profile.y.len() {
-        let _ = write!(out, "{},\"{}\",{},{},{},{},{},{},{},{}", f.name, f.fluid.profile, scene.box_len[1], f.particles.phi,
-            f.seed, num(summary.strain_to_steady), num(summary.momentum_residual.unwrap_or(f64::NAN)), summary.code_version,
-            num(profile.y[k]), num(profile.u_inf[k]));
+        let _ = write!(
+            out,
+            "{},\"{}\",{},{},{},{},{},{},{},{}",
+            f.name,
+            f.fluid.profile,
+            scene.box_len[1],
+            f.particles.phi,
+            f.seed,
+            num(summary.strain_to_steady),
+            num(summary.momentum_residual.unwrap_or(f64::NAN)),
+            summary.code_version,
+            num(profile.y[k]),
+            num(profile.u_inf[k])
+        );
         for c in 0..COLUMNS.len() {
             let _ = write!(out, ",{},{}", num(mean[c][k]), num(se[c][k]));
         }
@@ -45,13 +62,27 @@ pub fn profile_rows(scene: &Scene, profile: &Profile, summary: &RunSummary) -> S
 }
 
 /// Writes `dir/profile.csv` and `dir/summary.json` atomically.
-pub fn write_results(dir: &Path, scene: &Scene, profile: &Profile, summary: &RunSummary) -> Result<(), SimError> {
-    let err = |e: std::io::Error| SimError::Output { path: dir.display().to_string(), message: e.to_string() };
+pub fn write_results(
+    dir: &Path,
+    scene: &Scene,
+    profile: &Profile,
+    summary: &RunSummary,
+) -> Result<(), SimError> {
+    let err = |e: std::io::Error| SimError::Output {
+        path: dir.display().to_string(),
+        message: e.to_string(),
+    };
     std::fs::create_dir_all(dir).map_err(err)?;
-    let csv = format!("{}\n{}", profile_header(), profile_rows(scene, profile, summary));
+    let csv = format!(
+        "{}\n{}",
+        profile_header(),
+        profile_rows(scene, profile, summary)
+    );
     write_atomic(&dir.join("profile.csv"), csv.as_bytes())?;
-    let json = serde_json::to_vec_pretty(summary)
-        .map_err(|e| SimError::Output { path: dir.join("summary.json").display().to_string(), message: e.to_string() })?;
+    let json = serde_json::to_vec_pretty(summary).map_err(|e| SimError::Output {
+        path: dir.join("summary.json").display().to_string(),
+        message: e.to_string(),
+    })?;
     write_atomic(&dir.join("summary.json"), &json)
 }
 
@@ -65,7 +96,14 @@ pub fn append_xyz_frame(file: &mut std::fs::File, sim: &Simulation) -> Result<()
         l.x, l.y, l.z, sim.time);
     for i in 0..p.len() {
         let (x, v, w) = (p.pos[i], p.vel[i], p.omega[i]);
-        let _ = writeln!(s, "{} S{} {} {} {} {} {} {} {} {} {} {}", p.id[i], p.species[i], x.x, x.y, x.z, p.radius[i], v.x, v.y, v.z, w.x, w.y, w.z);
+        let _ = writeln!(
+            s,
+            "{} S{} {} {} {} {} {} {} {} {} {} {}",
+            p.id[i], p.species[i], x.x, x.y, x.z, p.radius[i], v.x, v.y, v.z, w.x, w.y, w.z
+        );
     }
-    file.write_all(s.as_bytes()).map_err(|e| SimError::Output { path: "snapshot xyz".into(), message: e.to_string() })
+    file.write_all(s.as_bytes()).map_err(|e| SimError::Output {
+        path: "snapshot xyz".into(),
+        message: e.to_string(),
+    })
 }

@@ -38,7 +38,10 @@ impl Particles {
     /// Particles at rest at `pos` with radii and species given, density `rho`.
     pub fn at_rest(pos: Vec<Vec3>, radius: Vec<f64>, species: Vec<u16>, rho: f64) -> Self {
         let n = pos.len();
-        let mass = radius.iter().map(|a| 4.0 / 3.0 * PI * rho * a.powi(3)).collect();
+        let mass = radius
+            .iter()
+            .map(|a| 4.0 / 3.0 * PI * rho * a.powi(3))
+            .collect();
         Self {
             pos,
             vel: vec![Vec3::zeros(); n],
@@ -87,7 +90,10 @@ impl Particles {
     /// Total kinetic energy, translational plus rotational.
     pub fn kinetic_energy(&self) -> f64 {
         (0..self.len())
-            .map(|i| 0.5 * self.mass[i] * self.vel[i].norm_squared() + 0.5 * self.inertia(i) * self.omega[i].norm_squared())
+            .map(|i| {
+                0.5 * self.mass[i] * self.vel[i].norm_squared()
+                    + 0.5 * self.inertia(i) * self.omega[i].norm_squared()
+            })
             .sum()
     }
 

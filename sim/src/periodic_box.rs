@@ -11,7 +11,10 @@ pub struct PeriodicBox {
 impl PeriodicBox {
     pub fn new(len: [f64; 3]) -> Self {
         let len = Vec3::from(len);
-        Self { len, half: len * 0.5 }
+        Self {
+            len,
+            half: len * 0.5,
+        }
     }
 
     /// Minimum-image separation `x_j - x_i` for positions already inside the box.

@@ -52,19 +52,42 @@ pub struct Observables {
 }
 
 /// Names of the observable columns, in output order.
-pub const COLUMNS: [&str; 11] =
-    ["u", "gdot", "sigma_xy", "P", "phi_loc", "J", "mu", "Theta", "Delta_v", "f_x", "count"];
+pub const COLUMNS: [&str; 11] = [
+    "u", "gdot", "sigma_xy", "P", "phi_loc", "J", "mu", "Theta", "Delta_v", "f_x", "count",
+];
 
 impl Observables {
     /// Columns in the order of [`COLUMNS`].
     pub fn columns(&self) -> [&Vec<f64>; 11] {
-        [&self.u, &self.gdot, &self.sigma_xy, &self.p, &self.phi_loc, &self.j, &self.mu, &self.theta,
-         &self.delta_v, &self.f_x, &self.count]
+        [
+            &self.u,
+            &self.gdot,
+            &self.sigma_xy,
+            &self.p,
+            &self.phi_loc,
+            &self.j,
+            &self.mu,
+            &self.theta,
+            &self.delta_v,
+            &self.f_x,
+            &self.count,
+        ]
     }
 
     fn columns_mut(&mut self) -> [&mut Vec<f64>; 11] {
-        [&mut self.u, &mut self.gdot, &mut self.sigma_xy, &mut self.p, &mut self.phi_loc, &mut self.j,
-         &mut self.mu, &mut self.theta, &mut self.delta_v, &mut self.f_x, &mut self.count]
+        [
+            &mut self.u,
+            &mut self.gdot,
+            &mut self.sigma_xy,
+            &mut self.p,
+            &mut self.phi_loc,
+            &mut self.j,
+            &mut self.mu,
+            &mut self.theta,
+            &mut self.delta_v,
+            &mut self.f_x,
+            &mut self.count,
+        ]
     }
 }
 
@@ -87,7 +110,12 @@ pub struct Profile {
 
 /// Observables of summed snapshots `s` (`n` snapshots). Theta uses fluctuations about
 /// `u_star`, the linear interpolation between bin centres of the bin means given.
-pub fn observables(ctx: &ProfileContext, s: &[f64], n: usize, u_star: &[f64]) -> Result<Observables, SimError> {
+pub fn observables(
+    ctx: &ProfileContext,
+    s: &[f64],
+    n: usize,
+    u_star: &[f64],
+) -> Result<Observables, SimError> {
     let nb = ctx.bins.count;
     let per = |f: usize, k: usize| s[f * nb + k];
     let norm = 1.0 / (n as f64 * ctx.bin_volume);
@@ -105,7 +133,8 @@ pub fn observables(ctx: &ProfileContext, s: &[f64], n: usize, u_star: &[f64]) ->
         o.sigma_xy.push(per(SXY, k) * norm);
         o.p.push((per(SXX, k) + per(SYY, k) + per(SZZ, k)) * norm / 3.0);
         o.f_x.push(per(DRAG_X, k) * norm);
-        o.delta_v.push((ctx.u_inf[k] - o.u[k]).abs() / (ctx.u_inf[k].abs() + DELTA_V_EPS));
+        o.delta_v
+            .push((ctx.u_inf[k] - o.u[k]).abs() / (ctx.u_inf[k].abs() + DELTA_V_EPS));
         // Sum of (v - u*)^2 over the bin from the interpolation sums.
         let (below, here, above) = (u_star[(k + nb - 1) % nb], u_star[k], u_star[(k + 1) % nb]);
         let half = |base: usize, left: f64, right: f64| {
@@ -114,7 +143,8 @@ pub fn observables(ctx: &ProfileContext, s: &[f64], n: usize, u_star: &[f64]) ->
                 + 2.0 * left * right * per(base + 3, k)
                 + right * right * per(base + 4, k)
         };
-        let fluct2 = (per(VX2, k) + half(LOWER, below, here) + half(UPPER, here, above)).max(0.0) / count;
+        let fluct2 =
+            (per(VX2, k) + half(LOWER, below, here) + half(UPPER, here, above)).max(0.0) / count;
         o.theta.push(ctx.eta * fluct2.sqrt() / ctx.a_mean);
     }
     for k in 0..nb {
@@ -123,7 +153,11 @@ pub fn observables(ctx: &ProfileContext, s: &[f64], n: usize, u_star: &[f64]) ->
         let p = o.p[k];
         let ok = p > 0.0;
         o.j.push(if ok { ctx.eta * g.abs() / p } else { f64::NAN });
-        o.mu.push(if ok { o.sigma_xy[k].abs() / p } else { f64::NAN });
+        o.mu.push(if ok {
+            o.sigma_xy[k].abs() / p
+        } else {
+            f64::NAN
+        });
         o.theta[k] = if ok { o.theta[k] / p } else { f64::NAN };
     }
     Ok(o)
@@ -136,7 +170,9 @@ impl Profile {
         let nb = ctx.bins.count;
         let total = blocks.total();
         let n = blocks.taken.min(blocks.capacity());
-        let u_mean: Vec<f64> = (0..nb).map(|k| total[VX * nb + k] / total[COUNT * nb + k].max(1.0)).collect();
+        let u_mean: Vec<f64> = (0..nb)
+            .map(|k| total[VX * nb + k] / total[COUNT * nb + k].max(1.0))
+            .collect();
         let mean = observables(ctx, &total, n, &u_mean)?;
         let per_block: Vec<Observables> = blocks
             .sums
@@ -153,7 +189,9 @@ impl Profile {
                 col.push((var / nblk).sqrt());
             }
         }
-        let face: Vec<f64> = (0..nb).map(|k| total[FACE_FX * nb + k] / (n as f64 * ctx.face_area)).collect();
+        let face: Vec<f64> = (0..nb)
+            .map(|k| total[FACE_FX * nb + k] / (n as f64 * ctx.face_area))
+            .collect();
         let (mut r2, mut f2) = (0.0, 0.0);
         for k in 0..nb {
             let r = (face[(k + 1) % nb] - face[k]) / ctx.bins.width + mean.f_x[k];
@@ -173,6 +211,8 @@ impl Profile {
 
     /// Bins where P <= 0, so that J, mu and Theta are undefined.
     pub fn undefined_bins(&self) -> Vec<usize> {
-        (0..self.y.len()).filter(|&k| self.mean.p[k].is_nan() || self.mean.p[k] <= 0.0).collect()
+        (0..self.y.len())
+            .filter(|&k| self.mean.p[k].is_nan() || self.mean.p[k] <= 0.0)
+            .collect()
     }
 }

@@ -126,7 +126,9 @@ pub fn profile_context(scene: &Scene) -> ProfileContext {
         face_area: l_x * l_z,
         eta: scene.file.fluid.eta,
         a_mean: scene.mean_radius(),
-        u_inf: (0..scene.n_bins).map(|k| scene.profile.u(bins.centre(k))).collect(),
+        u_inf: (0..scene.n_bins)
+            .map(|k| scene.profile.u(bins.centre(k)))
+            .collect(),
     }
 }
 
@@ -135,7 +137,12 @@ pub fn initial_particles(scene: &Scene) -> Result<Particles, SimError> {
     let radius = scene.particle_radii();
     let mut rng = rand::rngs::StdRng::seed_from_u64(scene.file.seed);
     let pos = random_packing(&radius, scene.box_len, &mut rng, PACKING_GAP)?;
-    Ok(Particles::at_rest(pos.into_iter().map(Vec3::from).collect(), radius, scene.particle_species(), scene.rho))
+    Ok(Particles::at_rest(
+        pos.into_iter().map(Vec3::from).collect(),
+        radius,
+        scene.particle_species(),
+        scene.rho,
+    ))
 }
 
 fn fresh_state(scene: &Scene) -> RunState {
@@ -165,9 +172,16 @@ fn same_scene(a: &SceneFile, b: &SceneFile) -> bool {
 
 /// Runs `scene` to a steady-state profile, calling `progress` after every snapshot
 /// with the state just sampled.
-pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress, &Simulation)) -> Result<RunOutcome, SimError> {
+pub fn run(
+    scene: &Scene,
+    opts: &RunOptions,
+    progress: &mut dyn FnMut(&Progress, &Simulation),
+) -> Result<RunOutcome, SimError> {
     let started = Instant::now();
-    let resume_from = opts.checkpoint.as_ref().filter(|p| opts.resume && p.exists());
+    let resume_from = opts
+        .checkpoint
+        .as_ref()
+        .filter(|p| opts.resume && p.exists());
     let (mut sim, mut st) = match resume_from {
         Some(path) => {
             let Checkpoint { run: st, system } = checkpoint::load(path)?;
@@ -179,9 +193,10 @@ pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress,
             }
             (Simulation::restore(scene, system)?, st)
         }
-        None => {
-            (Simulation::new(scene, initial_particles(scene)?)?, fresh_state(scene))
-        }
+        None => (
+            Simulation::new(scene, initial_particles(scene)?)?,
+            fresh_state(scene),
+        ),
     };
     let ctx = profile_context(scene);
     let r = &scene.file.run;
@@ -213,7 +228,10 @@ pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress,
                         st.phase = Phase::Averaging;
                         st.strain_to_steady = Some(strain);
                     } else if strain >= r.max_strain {
-                        return Err(SimError::NotSteady { budget: r.max_strain, detail: st.steady.describe_last() });
+                        return Err(SimError::NotSteady {
+                            budget: r.max_strain,
+                            detail: st.steady.describe_last(),
+                        });
                     }
                 }
             }
@@ -222,14 +240,17 @@ pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress,
                 st.overlap_max = st.overlap_max.max(sim.contacts.max_overlap_ratio);
             }
         }
-        progress(&Progress {
-            phase: st.phase,
-            strain,
-            max_strain: r.max_strain,
-            snapshots: st.averaging.taken,
-            snapshots_target: target,
-            step: sim.step,
-        }, &sim);
+        progress(
+            &Progress {
+                phase: st.phase,
+                strain,
+                max_strain: r.max_strain,
+                snapshots: st.averaging.taken,
+                snapshots_target: target,
+                step: sim.step,
+            },
+            &sim,
+        );
         if st.phase == Phase::Averaging && st.averaging.full() {
             break;
         }
@@ -237,7 +258,13 @@ pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress,
         if let Some(path) = &opts.checkpoint {
             if interrupted || last_checkpoint.elapsed().as_secs_f64() >= r.checkpoint_every_s {
                 st.wall_s = wall_before + started.elapsed().as_secs_f64();
-                checkpoint::save(path, &Checkpoint { run: st.clone(), system: sim.state() })?;
+                checkpoint::save(
+                    path,
+                    &Checkpoint {
+                        run: st.clone(),
+                        system: sim.state(),
+                    },
+                )?;
                 last_checkpoint = Instant::now();
             }
         }
@@ -250,7 +277,9 @@ pub fn run(scene: &Scene, opts: &RunOptions, progress: &mut dyn FnMut(&Progress,
     let mut warnings = scene.warnings.clone();
     let undefined_bins = profile.undefined_bins();
     if !undefined_bins.is_empty() {
-        warnings.push(format!("P <= 0 in bins {undefined_bins:?}: J, mu and Theta undefined there (empty fields)"));
+        warnings.push(format!(
+            "P <= 0 in bins {undefined_bins:?}: J, mu and Theta undefined there (empty fields)"
+        ));
     }
     let summary = RunSummary {
         name: scene.file.name.clone(),

@@ -136,24 +136,60 @@ pub struct RunSection {
     pub checkpoint_every_s: f64,
 }
 
-fn default_name() -> String { "scene".into() }
-fn default_seed() -> u64 { 1 }
-fn default_radii() -> Vec<f64> { vec![1.0, 1.4] }
-fn default_fractions() -> Vec<f64> { vec![0.5, 0.5] }
-fn one() -> f64 { 1.0 }
-fn yes() -> bool { true }
-fn default_k_n() -> f64 { 1e4 }
-fn default_xi_min() -> f64 { 1e-3 }
-fn default_xi_max() -> f64 { 0.05 }
-fn default_dt_safety() -> f64 { 0.3 }
-fn default_skin() -> f64 { 0.1 }
-fn default_bin_width() -> f64 { 2.0 }
-fn default_sample_strain() -> f64 { 0.01 }
-fn default_max_strain() -> f64 { 30.0 }
-fn default_steady_chi2() -> f64 { 3.0 }
-fn default_snapshots() -> usize { 1000 }
-fn default_blocks() -> usize { 20 }
-fn default_checkpoint_s() -> f64 { 60.0 }
+fn default_name() -> String {
+    "scene".into()
+}
+fn default_seed() -> u64 {
+    1
+}
+fn default_radii() -> Vec<f64> {
+    vec![1.0, 1.4]
+}
+fn default_fractions() -> Vec<f64> {
+    vec![0.5, 0.5]
+}
+fn one() -> f64 {
+    1.0
+}
+fn yes() -> bool {
+    true
+}
+fn default_k_n() -> f64 {
+    1e4
+}
+fn default_xi_min() -> f64 {
+    1e-3
+}
+fn default_xi_max() -> f64 {
+    0.05
+}
+fn default_dt_safety() -> f64 {
+    0.3
+}
+fn default_skin() -> f64 {
+    0.1
+}
+fn default_bin_width() -> f64 {
+    2.0
+}
+fn default_sample_strain() -> f64 {
+    0.01
+}
+fn default_max_strain() -> f64 {
+    30.0
+}
+fn default_steady_chi2() -> f64 {
+    3.0
+}
+fn default_snapshots() -> usize {
+    1000
+}
+fn default_blocks() -> usize {
+    20
+}
+fn default_checkpoint_s() -> f64 {
+    60.0
+}
 
 impl Default for ForceSection {
     fn default() -> Self {
@@ -194,27 +230,36 @@ fn positive(field: &str, v: f64) -> Result<(), SimError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(SimError::field(field, format!("must be a positive finite number, got {v}")))
+        Err(SimError::field(
+            field,
+            format!("must be a positive finite number, got {v}"),
+        ))
     }
 }
 
 impl Scene {
     /// Reads and validates a scene file.
     pub fn from_path(path: &Path, strict: bool) -> Result<Scene, SimError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| SimError::SceneFile { path: path.display().to_string(), message: e.to_string() })?;
-        Self::from_toml(&text, strict)
-            .map_err(|e| match e {
-                SimError::SceneFile { message, .. } => SimError::SceneFile { path: path.display().to_string(), message },
-                other => other,
-            })
+        let text = std::fs::read_to_string(path).map_err(|e| SimError::SceneFile {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        Self::from_toml(&text, strict).map_err(|e| match e {
+            SimError::SceneFile { message, .. } => SimError::SceneFile {
+                path: path.display().to_string(),
+                message,
+            },
+            other => other,
+        })
     }
 
     /// Parses and validates scene text. With `strict`, warnings (SPEC section 1: Stokes
     /// number >= 0.1) are errors.
     pub fn from_toml(text: &str, strict: bool) -> Result<Scene, SimError> {
-        let file: SceneFile = toml::from_str(text)
-            .map_err(|e| SimError::SceneFile { path: "<text>".into(), message: e.to_string() })?;
+        let file: SceneFile = toml::from_str(text).map_err(|e| SimError::SceneFile {
+            path: "<text>".into(),
+            message: e.to_string(),
+        })?;
         Self::from_file(file, strict)
     }
 
@@ -226,30 +271,51 @@ impl Scene {
         positive("box.l_z", b.l_z)?;
         let p = &file.particles;
         if !(p.phi > 0.0 && p.phi < 0.74) {
-            return Err(SimError::field("particles.phi", format!(
-                "must lie in (0, 0.74) (0.74 is the densest packing of spheres), got {}", p.phi)));
+            return Err(SimError::field(
+                "particles.phi",
+                format!(
+                    "must lie in (0, 0.74) (0.74 is the densest packing of spheres), got {}",
+                    p.phi
+                ),
+            ));
         }
         if p.radii.is_empty() || p.radii.len() != p.fractions.len() {
-            return Err(SimError::field("particles.fractions", format!(
-                "needs one number fraction per radius ({} radii, {} fractions)", p.radii.len(), p.fractions.len())));
+            return Err(SimError::field(
+                "particles.fractions",
+                format!(
+                    "needs one number fraction per radius ({} radii, {} fractions)",
+                    p.radii.len(),
+                    p.fractions.len()
+                ),
+            ));
         }
         for (k, &a) in p.radii.iter().enumerate() {
             positive(&format!("particles.radii[{k}]"), a)?;
         }
-        if p.fractions.iter().any(|f| !(f.is_finite() && *f >= 0.0)) || p.fractions.iter().sum::<f64>() <= 0.0 {
-            return Err(SimError::field("particles.fractions", "must be non-negative with a positive sum"));
+        if p.fractions.iter().any(|f| !(f.is_finite() && *f >= 0.0))
+            || p.fractions.iter().sum::<f64>() <= 0.0
+        {
+            return Err(SimError::field(
+                "particles.fractions",
+                "must be non-negative with a positive sum",
+            ));
         }
         positive("fluid.eta", file.fluid.eta)?;
         let f = &file.forces;
         positive("forces.k_n", f.k_n)?;
         if !(f.mu_p.is_finite() && f.mu_p >= 0.0) {
-            return Err(SimError::field("forces.mu_p", format!("must be >= 0, got {}", f.mu_p)));
+            return Err(SimError::field(
+                "forces.mu_p",
+                format!("must be >= 0, got {}", f.mu_p),
+            ));
         }
         positive("forces.xi_min", f.xi_min)?;
         positive("forces.xi_max", f.xi_max)?;
         if f.xi_min >= f.xi_max {
-            return Err(SimError::field("forces.xi_min", format!(
-                "must be below forces.xi_max ({} >= {})", f.xi_min, f.xi_max)));
+            return Err(SimError::field(
+                "forces.xi_min",
+                format!("must be below forces.xi_max ({} >= {})", f.xi_min, f.xi_max),
+            ));
         }
         let r = &file.run;
         if let Some(dt) = r.dt {
@@ -258,7 +324,10 @@ impl Scene {
         positive("run.dt_safety", r.dt_safety)?;
         positive("run.dt_factor", r.dt_factor)?;
         if !(r.skin.is_finite() && r.skin >= 0.0) {
-            return Err(SimError::field("run.skin", format!("must be >= 0, got {}", r.skin)));
+            return Err(SimError::field(
+                "run.skin",
+                format!("must be >= 0, got {}", r.skin),
+            ));
         }
         positive("run.bin_width", r.bin_width)?;
         positive("run.sample_strain", r.sample_strain)?;
@@ -267,57 +336,100 @@ impl Scene {
         positive("run.steady_chi2", r.steady_chi2)?;
         positive("run.checkpoint_every_s", r.checkpoint_every_s)?;
         if r.blocks < 2 || r.snapshots < r.blocks {
-            return Err(SimError::field("run.blocks", format!(
-                "need 2 <= blocks <= snapshots, got blocks = {}, snapshots = {}", r.blocks, r.snapshots)));
+            return Err(SimError::field(
+                "run.blocks",
+                format!(
+                    "need 2 <= blocks <= snapshots, got blocks = {}, snapshots = {}",
+                    r.blocks, r.snapshots
+                ),
+            ));
         }
         let bins = b.l_y / r.bin_width;
         let n_bins = bins.round() as usize;
         if n_bins < 3 || (bins - bins.round()).abs() > 1e-6 * bins {
-            return Err(SimError::field("run.bin_width", format!(
-                "must divide box.l_y into at least 3 bins: {} / {} = {bins}", b.l_y, r.bin_width)));
+            return Err(SimError::field(
+                "run.bin_width",
+                format!(
+                    "must divide box.l_y into at least 3 bins: {} / {} = {bins}",
+                    b.l_y, r.bin_width
+                ),
+            ));
         }
         let profile = FlowProfile::new(&file.fluid.profile, b.l_y)?;
 
         let a_max = p.radii.iter().cloned().fold(0.0, f64::max);
         let a_min = p.radii.iter().cloned().fold(f64::INFINITY, f64::min);
         let contact_range = 2.0 * a_max;
-        let interaction_range = if f.lubrication { contact_range * (1.0 + 0.5 * f.xi_max) } else { contact_range };
+        let interaction_range = if f.lubrication {
+            contact_range * (1.0 + 0.5 * f.xi_max)
+        } else {
+            contact_range
+        };
         let needed = 2.0 * (interaction_range + r.skin);
         for (name, l) in [("box.l_x", b.l_x), ("box.l_y", b.l_y), ("box.l_z", b.l_z)] {
             if l < needed {
-                return Err(SimError::field(name, format!(
-                    "{l} is shorter than twice the interaction range plus skin ({needed:.3}): \
-                     the minimum-image convention would count a pair twice")));
+                return Err(SimError::field(
+                    name,
+                    format!(
+                        "{l} is shorter than twice the interaction range plus skin ({needed:.3}): \
+                     the minimum-image convention would count a pair twice"
+                    ),
+                ));
             }
         }
 
         let fsum: f64 = p.fractions.iter().sum();
         let fractions: Vec<f64> = p.fractions.iter().map(|x| x / fsum).collect();
         let volume = b.l_x * b.l_y * b.l_z;
-        let mean_particle_volume: f64 =
-            fractions.iter().zip(&p.radii).map(|(x, a)| x * 4.0 / 3.0 * PI * a.powi(3)).sum();
+        let mean_particle_volume: f64 = fractions
+            .iter()
+            .zip(&p.radii)
+            .map(|(x, a)| x * 4.0 / 3.0 * PI * a.powi(3))
+            .sum();
         let n_total = (p.phi * volume / mean_particle_volume).round() as usize;
-        let mut counts: Vec<usize> = fractions.iter().map(|x| (x * n_total as f64).round() as usize).collect();
+        let mut counts: Vec<usize> = fractions
+            .iter()
+            .map(|x| (x * n_total as f64).round() as usize)
+            .collect();
         let assigned: usize = counts.iter().sum();
         let last = counts.len() - 1;
         counts[last] = (counts[last] + n_total).saturating_sub(assigned);
         let n: usize = counts.iter().sum();
         if n < 2 {
-            return Err(SimError::field("particles.phi", format!(
-                "the box holds fewer than 2 particles at phi = {} (volume {volume})", p.phi)));
+            return Err(SimError::field(
+                "particles.phi",
+                format!(
+                    "the box holds fewer than 2 particles at phi = {} (volume {volume})",
+                    p.phi
+                ),
+            ));
         }
-        let solid: f64 = counts.iter().zip(&p.radii).map(|(&c, a)| c as f64 * 4.0 / 3.0 * PI * a.powi(3)).sum();
+        let solid: f64 = counts
+            .iter()
+            .zip(&p.radii)
+            .map(|(&c, a)| c as f64 * 4.0 / 3.0 * PI * a.powi(3))
+            .sum();
         let phi_actual = solid / volume;
 
         let gdot_max = profile.max_abs_shear_rate();
         let rho = match (p.rho, p.stokes) {
-            (Some(_), Some(_)) => return Err(SimError::field("particles.stokes",
-                "give either particles.rho or particles.stokes, not both (stokes sets rho)")),
-            (Some(rho), None) => { positive("particles.rho", rho)?; rho }
+            (Some(_), Some(_)) => {
+                return Err(SimError::field(
+                    "particles.stokes",
+                    "give either particles.rho or particles.stokes, not both (stokes sets rho)",
+                ))
+            }
+            (Some(rho), None) => {
+                positive("particles.rho", rho)?;
+                rho
+            }
             (None, Some(st)) => {
                 positive("particles.stokes", st)?;
                 if !(gdot_max > 0.0) {
-                    return Err(SimError::field("particles.stokes", "needs a profile with a non-zero shear rate"));
+                    return Err(SimError::field(
+                        "particles.stokes",
+                        "needs a profile with a non-zero shear rate",
+                    ));
                 }
                 st * file.fluid.eta / (a_min * a_min * gdot_max)
             }
@@ -329,7 +441,11 @@ impl Scene {
             let msg = format!(
                 "Stokes number rho a^2 gdot_max / eta = {stokes:.3} >= 0.1: inertia is not negligible (thesis 4.2.4)");
             if strict {
-                let field = if p.stokes.is_some() { "particles.stokes" } else { "particles.rho" };
+                let field = if p.stokes.is_some() {
+                    "particles.stokes"
+                } else {
+                    "particles.rho"
+                };
                 return Err(SimError::field(field, msg));
             }
             warnings.push(msg);
@@ -356,12 +472,20 @@ impl Scene {
     /// Radius of every particle, species by species (species 0 first).
     pub fn particle_radii(&self) -> Vec<f64> {
         let radii = &self.file.particles.radii;
-        self.counts.iter().zip(radii).flat_map(|(&c, &a)| std::iter::repeat_n(a, c)).collect()
+        self.counts
+            .iter()
+            .zip(radii)
+            .flat_map(|(&c, &a)| std::iter::repeat_n(a, c))
+            .collect()
     }
 
     /// Species index of every particle, in the order of [`Scene::particle_radii`].
     pub fn particle_species(&self) -> Vec<u16> {
-        self.counts.iter().enumerate().flat_map(|(s, &c)| std::iter::repeat_n(s as u16, c)).collect()
+        self.counts
+            .iter()
+            .enumerate()
+            .flat_map(|(s, &c)| std::iter::repeat_n(s as u16, c))
+            .collect()
     }
 
     /// Number-weighted mean radius, the `a` of Theta (SPEC section 6).

@@ -73,7 +73,10 @@ impl Simulation {
         let field = ForceField::from_scene(scene);
         let timestep = TimeStep::choose(scene, &field);
         if !(timestep.dt.is_finite() && timestep.dt > 0.0) {
-            return Err(SimError::field("run.dt", "no force term limits the time step: set run.dt"));
+            return Err(SimError::field(
+                "run.dt",
+                "no force term limits the time step: set run.dt",
+            ));
         }
         let u_max = scene.profile.max_abs_u().max(1e-12);
         let kinetic_scale = particles.mass.iter().map(|m| 0.5 * m * u_max * u_max).sum();
@@ -128,7 +131,9 @@ impl Simulation {
     pub fn rebuild_list(&mut self) {
         let t = self.timers.start();
         let reach = self.field.max_cutoff + self.skin;
-        let order = CellList::build(&self.particles.pos, &self.pbox, reach).order().to_vec();
+        let order = CellList::build(&self.particles.pos, &self.pbox, reach)
+            .order()
+            .to_vec();
         self.particles.permute(&order);
         if !self.body_force.is_empty() {
             self.body_force = order.iter().map(|&o| self.body_force[o as usize]).collect();
@@ -179,10 +184,15 @@ impl Simulation {
         let h = 0.5 * self.timestep.dt;
         let p = &mut self.particles;
         let (force, torque, mass, radius) = (&p.force, &p.torque, &p.mass, &p.radius);
-        p.vel.par_iter_mut().zip(p.omega.par_iter_mut()).enumerate().with_min_len(1024).for_each(|(i, (v, w))| {
-            *v += force[i] * (h / mass[i]);
-            *w += torque[i] * (h / sphere_inertia(mass[i], radius[i]));
-        });
+        p.vel
+            .par_iter_mut()
+            .zip(p.omega.par_iter_mut())
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(i, (v, w))| {
+                *v += force[i] * (h / mass[i]);
+                *w += torque[i] * (h / sphere_inertia(mass[i], radius[i]));
+            });
     }
 
     /// Drift `x += v dt`, wrapped into the box.
@@ -190,10 +200,14 @@ impl Simulation {
         let dt = self.timestep.dt;
         let pbox = self.pbox;
         let p = &mut self.particles;
-        p.pos.par_iter_mut().zip(p.vel.par_iter()).with_min_len(1024).for_each(|(x, v)| {
-            *x += v * dt;
-            pbox.wrap(x);
-        });
+        p.pos
+            .par_iter_mut()
+            .zip(p.vel.par_iter())
+            .with_min_len(1024)
+            .for_each(|(x, v)| {
+                *x += v * dt;
+                pbox.wrap(x);
+            });
     }
 
     /// One velocity-Verlet step (forces at the new positions with the half-step
@@ -224,7 +238,13 @@ impl Simulation {
     }
 
     fn blow_up(&self, particle: usize, what: String, cause: &str) -> SimError {
-        SimError::BlowUp { step: self.step, time: self.time, particle, what, cause: cause.to_string() }
+        SimError::BlowUp {
+            step: self.step,
+            time: self.time,
+            particle,
+            what,
+            cause: cause.to_string(),
+        }
     }
 
     /// Overlap every step; non-finite state and runaway kinetic energy every few steps.
@@ -247,7 +267,8 @@ impl Simulation {
         }
         let p = &self.particles;
         if let Some(i) = (0..p.len()).find(|&i| {
-            !(p.pos[i].iter().all(|c| c.is_finite()) && p.vel[i].iter().all(|c| c.is_finite())
+            !(p.pos[i].iter().all(|c| c.is_finite())
+                && p.vel[i].iter().all(|c| c.is_finite())
                 && p.omega[i].iter().all(|c| c.is_finite()))
         }) {
             return Err(self.blow_up(i, "position or velocity is not finite".into(), &dt_hint()));

@@ -62,7 +62,10 @@ pub fn accumulate(sim: &Simulation, bins: &Bins, out: &mut [f64]) {
             (UPPER, (y - centre) / bins.width)
         };
         let s = 1.0 - t;
-        for (f, v) in [vx * s, vx * t, s * s, t * s, t * t].into_iter().enumerate() {
+        for (f, v) in [vx * s, vx * t, s * s, t * s, t * t]
+            .into_iter()
+            .enumerate()
+        {
             out[(base + f) * nb + k] += v;
         }
     }
@@ -70,8 +73,14 @@ pub fn accumulate(sim: &Simulation, bins: &Bins, out: &mut [f64]) {
     for i in 0..p.len() {
         for q in sim.list.start[i]..sim.list.start[i + 1] {
             let j = sim.list.neighbours[q] as usize;
-            let mut spring = if frictional { Some(sim.springs[q]) } else { None };
-            let Some(o) = sim.field.pair(p, &sim.pbox, i, j, spring.as_mut(), 0.0) else { continue };
+            let mut spring = if frictional {
+                Some(sim.springs[q])
+            } else {
+                None
+            };
+            let Some(o) = sim.field.pair(p, &sim.pbox, i, j, spring.as_mut(), 0.0) else {
+                continue;
+            };
             let s = o.load.stresslet(&o.r);
             let y_i = p.pos[i].y;
             bins.share_segment(y_i, o.r.y, |k, frac| {
@@ -81,7 +90,11 @@ pub fn accumulate(sim: &Simulation, bins: &Bins, out: &mut [f64]) {
                 out[SXY * nb + k] += frac * s[(0, 1)];
                 out[SXY_PAIR * nb + k] += frac * s[(0, 1)];
             });
-            let (lo, hi) = if o.r.y > 0.0 { (y_i, y_i + o.r.y) } else { (y_i + o.r.y, y_i) };
+            let (lo, hi) = if o.r.y > 0.0 {
+                (y_i, y_i + o.r.y)
+            } else {
+                (y_i + o.r.y, y_i)
+            };
             let below_from_above = o.load.force_i.x * o.r.y.signum();
             bins.for_each_face(lo, hi, |k| out[FACE_FX * nb + k] += below_from_above);
         }

@@ -55,7 +55,11 @@ fn trend_chi2(series: &[&Vec<f64>]) -> f64 {
         let mean = series.iter().map(|s| s[k]).sum::<f64>() / m as f64;
         let slope = xs.iter().zip(series).map(|(x, s)| x * s[k]).sum::<f64>() / sxx;
         slope2 += slope * slope;
-        resid2 += xs.iter().zip(series).map(|(x, s)| (s[k] - mean - slope * x).powi(2)).sum::<f64>();
+        resid2 += xs
+            .iter()
+            .zip(series)
+            .map(|(x, s)| (s[k] - mean - slope * x).powi(2))
+            .sum::<f64>();
     }
     let var_slope = resid2 / (nb * (m - 2)) as f64 / sxx;
     if var_slope > 0.0 {
@@ -84,7 +88,9 @@ impl SteadyState {
     pub fn close_window(&mut self, ctx: &ProfileContext, strain: f64) -> Result<bool, SimError> {
         let sums = self.window.total();
         let nb = self.window.n_bins;
-        let u_star: Vec<f64> = (0..nb).map(|k| sums[VX * nb + k] / sums[COUNT * nb + k].max(1.0)).collect();
+        let u_star: Vec<f64> = (0..nb)
+            .map(|k| sums[VX * nb + k] / sums[COUNT * nb + k].max(1.0))
+            .collect();
         let o = observables(ctx, &sums, self.window.taken, &u_star)?;
         self.window_means.push([o.u, o.sigma_xy, o.phi_loc]);
         self.window = BlockSums::new(nb, 1, self.window.per_block);
@@ -94,7 +100,12 @@ impl SteadyState {
         }
         let last = &self.window_means[n - TREND_WINDOWS..];
         let chi2 = |q: usize| trend_chi2(&last.iter().map(|w| &w[q]).collect::<Vec<_>>());
-        let drift = Drift { strain, chi2_u: chi2(0), chi2_sigma_xy: chi2(1), chi2_phi_loc: chi2(2) };
+        let drift = Drift {
+            strain,
+            chi2_u: chi2(0),
+            chi2_sigma_xy: chi2(1),
+            chi2_phi_loc: chi2(2),
+        };
         self.history.push(drift);
         Ok(drift.worst() < self.threshold)
     }
@@ -119,8 +130,16 @@ mod tests {
     fn trend_statistic_separates_noise_from_drift() {
         // Deterministic pseudo-noise of unit size on 20 bins over 4 windows.
         let noise = |w: usize, k: usize| (((w * 31 + k * 17) % 13) as f64 - 6.0) / 3.5;
-        let flat: Vec<Vec<f64>> = (0..4).map(|w| (0..20).map(|k| 5.0 + noise(w, k)).collect()).collect();
-        let drifting: Vec<Vec<f64>> = (0..4).map(|w| (0..20).map(|k| 5.0 + 3.0 * w as f64 + noise(w, k)).collect()).collect();
+        let flat: Vec<Vec<f64>> = (0..4)
+            .map(|w| (0..20).map(|k| 5.0 + noise(w, k)).collect())
+            .collect();
+        let drifting: Vec<Vec<f64>> = (0..4)
+            .map(|w| {
+                (0..20)
+                    .map(|k| 5.0 + 3.0 * w as f64 + noise(w, k))
+                    .collect()
+            })
+            .collect();
         let chi2 = |s: &Vec<Vec<f64>>| trend_chi2(&s.iter().collect::<Vec<_>>());
         assert!(chi2(&flat) < 3.0, "noise alone: {}", chi2(&flat));
         assert!(chi2(&drifting) > 20.0, "drift: {}", chi2(&drifting));

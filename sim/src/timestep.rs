@@ -79,7 +79,13 @@ impl TimeStep {
         if let Some(user) = run.dt {
             (dt, limit) = (user, DtLimit::User);
         }
-        TimeStep { dt, limit, contact_critical: contact, drag_critical: drag, lubrication_critical: lub }
+        TimeStep {
+            dt,
+            limit,
+            contact_critical: contact,
+            drag_critical: drag,
+            lubrication_critical: lub,
+        }
     }
 
     /// The step `scene` will run with (its force field built from the scene).

@@ -44,13 +44,21 @@ impl VerletList {
             neighbours[row..].sort_unstable();
             start.push(neighbours.len());
         }
-        Self { start, neighbours, reference: positions.to_vec(), skin }
+        Self {
+            start,
+            neighbours,
+            reference: positions.to_vec(),
+            skin,
+        }
     }
 
     /// Whether some particle has moved more than half the skin since the build.
     pub fn stale(&self, positions: &[Vec3], pbox: &PeriodicBox) -> bool {
         let limit = 0.25 * self.skin * self.skin;
-        positions.iter().zip(&self.reference).any(|(x, r)| pbox.separation(r, x).norm_squared() > limit)
+        positions
+            .iter()
+            .zip(&self.reference)
+            .any(|(x, r)| pbox.separation(r, x).norm_squared() > limit)
     }
 
     /// Number of listed pairs.

@@ -5,11 +5,20 @@ use std::f64::consts::PI;
 #[test]
 fn sphere_volume_is_split_exactly_across_slabs_and_the_periodic_boundary() {
     let bins = Bins::new(2.0, 10);
-    for (y, a) in [(0.3, 1.4), (19.9, 1.0), (5.0, 1.0), (7.77, 1.4), (10.0, 4.0)] {
+    for (y, a) in [
+        (0.3, 1.4),
+        (19.9, 1.0),
+        (5.0, 1.0),
+        (7.77, 1.4),
+        (10.0, 4.0),
+    ] {
         let mut v = vec![0.0; 10];
         bins.add_sphere_volume(y, a, &mut v);
         let total = 4.0 / 3.0 * PI * a * a * a;
-        assert!((v.iter().sum::<f64>() - total).abs() < 1e-12 * total, "y {y} a {a}");
+        assert!(
+            (v.iter().sum::<f64>() - total).abs() < 1e-12 * total,
+            "y {y} a {a}"
+        );
         assert!(v.iter().all(|&x| x >= 0.0));
     }
     // A sphere centred on a face puts half its volume on each side.

@@ -39,14 +39,23 @@ fn pair_forces_cancel_in_a_random_dense_system() {
         *x *= 0.985;
     }
     for v in p.vel.iter_mut().chain(p.omega.iter_mut()) {
-        *v = Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0));
+        *v = Vec3::new(
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+        );
     }
     let sim = Simulation::new(&scene, p).unwrap();
     assert!(sim.contacts.contacts > 0, "the test needs contacts");
     let total: Vec3 = sim.particles.force.iter().sum();
     let scale: f64 = sim.particles.force.iter().map(|f| f.norm()).sum();
     assert!(scale > 0.0);
-    assert!(total.norm() < 1e-12 * scale, "net pair force {} of {}", total.norm(), scale);
+    assert!(
+        total.norm() < 1e-12 * scale,
+        "net pair force {} of {}",
+        total.norm(),
+        scale
+    );
 }
 
 #[test]
@@ -55,7 +64,10 @@ fn same_thread_count_same_forces_and_threads_agree_to_round_off() {
     let p = sim::run::initial_particles(&scene).unwrap();
     // Positions in the order of the particles' identities (the arrays are re-sorted in space).
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         pool.install(|| {
             let mut s = Simulation::new(&scene, p.clone()).unwrap();
             s.advance(300).unwrap();
@@ -64,7 +76,11 @@ fn same_thread_count_same_forces_and_threads_agree_to_round_off() {
     };
     let (a, b, c) = (run(2), run(2), run(1));
     assert_eq!(a, b, "same seed and thread count must be bitwise identical");
-    let max_dev = a.iter().zip(&c).map(|(x, y)| (x - y).norm()).fold(0.0, f64::max);
+    let max_dev = a
+        .iter()
+        .zip(&c)
+        .map(|(x, y)| (x - y).norm())
+        .fold(0.0, f64::max);
     assert!(max_dev < 1e-9, "1 and 2 threads differ by {max_dev}");
 }
 
@@ -80,8 +96,23 @@ fn approaching_spheres_reach_the_squeeze_velocity() {
         let mut s = Simulation::new(&scene, two_particles(x_i, x_j, a_i, a_j)).unwrap();
         let f = 0.05;
         // Push particle 0 (identity) towards +x, particle 1 towards -x.
-        s.body_force = s.particles.id.iter().map(|&id| if id == 0 { Vec3::x() * f } else { -Vec3::x() * f }).collect();
-        let (first, second) = if s.particles.id[0] == 0 { (0, 1) } else { (1, 0) };
+        s.body_force = s
+            .particles
+            .id
+            .iter()
+            .map(|&id| {
+                if id == 0 {
+                    Vec3::x() * f
+                } else {
+                    -Vec3::x() * f
+                }
+            })
+            .collect();
+        let (first, second) = if s.particles.id[0] == 0 {
+            (0, 1)
+        } else {
+            (1, 0)
+        };
         let c = LubricationCoefficients::new(a_i, a_j, 1.0, 1e-3, 0.05);
         let mut checked = 0;
         for _ in 0..400 {
@@ -94,7 +125,10 @@ fn approaching_spheres_reach_the_squeeze_velocity() {
             let closing = (s.particles.vel[first] - s.particles.vel[second]).x;
             let expected = f / c.x11a(xi);
             if s.time > 20.0 * s.timestep.dt * 50.0 {
-                assert!((closing - expected).abs() < 0.02 * expected, "xi {xi}: {closing} vs F/X11A {expected}");
+                assert!(
+                    (closing - expected).abs() < 0.02 * expected,
+                    "xi {xi}: {closing} vs F/X11A {expected}"
+                );
                 checked += 1;
             }
         }
@@ -133,5 +167,8 @@ fn a_lone_particle_relaxes_to_the_streaming_velocity() {
     let (coarse, fine) = (relaxation_error(200.0), relaxation_error(400.0));
     assert!(coarse < 0.5 / 200.0, "error {coarse} at dt = tau/200");
     let ratio = fine / coarse;
-    assert!((0.4..0.6).contains(&ratio), "error ratio {ratio} on halving dt (first order expected)");
+    assert!(
+        (0.4..0.6).contains(&ratio),
+        "error ratio {ratio} on halving dt (first order expected)"
+    );
 }

@@ -9,12 +9,18 @@ const XI_MIN: f64 = 1e-3;
 const XI_MAX: f64 = 0.05;
 
 fn gaps() -> Vec<f64> {
-    (0..=20).map(|k| XI_MIN * (XI_MAX / XI_MIN).powf(k as f64 / 20.0) * 0.999).collect()
+    (0..=20)
+        .map(|k| XI_MIN * (XI_MAX / XI_MIN).powf(k as f64 / 20.0) * 0.999)
+        .collect()
 }
 
 fn random_unit(rng: &mut impl Rng) -> Vec3 {
     loop {
-        let v = Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0));
+        let v = Vec3::new(
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+        );
         if v.norm() > 0.1 && v.norm() < 1.0 {
             return v.normalize();
         }
@@ -22,7 +28,11 @@ fn random_unit(rng: &mut impl Rng) -> Vec3 {
 }
 
 fn random_vec(rng: &mut impl Rng) -> Vec3 {
-    Vec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0))
+    Vec3::new(
+        rng.gen_range(-1.0..1.0),
+        rng.gen_range(-1.0..1.0),
+        rng.gen_range(-1.0..1.0),
+    )
 }
 
 #[test]
@@ -37,10 +47,15 @@ fn lubrication_power_is_never_positive() {
                 let (v_i, v_j) = (random_vec(&mut rng), random_vec(&mut rng));
                 let (w_i, w_j) = (random_vec(&mut rng), random_vec(&mut rng));
                 let l = c.load(xi, &n, &(v_j - v_i), &w_i, &w_j);
-                let power = l.force_i.dot(&v_i) - l.force_i.dot(&v_j) + l.torque_i.dot(&w_i) + l.torque_j.dot(&w_j);
+                let power = l.force_i.dot(&v_i) - l.force_i.dot(&v_j)
+                    + l.torque_i.dot(&w_i)
+                    + l.torque_j.dot(&w_j);
                 // Scale: the largest single dissipation term.
                 let scale = c.x11a(xi) * (v_j - v_i).norm_squared() + 1.0;
-                assert!(power <= 1e-12 * scale, "beta {beta}, xi {xi}: power {power} > 0");
+                assert!(
+                    power <= 1e-12 * scale,
+                    "beta {beta}, xi {xi}: power {power} > 0"
+                );
             }
         }
     }
@@ -50,7 +65,13 @@ fn lubrication_power_is_never_positive() {
 fn an_approaching_pair_is_pushed_apart() {
     let c = LubricationCoefficients::new(1.0, 1.4, 1.0, XI_MIN, XI_MAX);
     let n = Vec3::x();
-    let l = c.load(0.01, &n, &Vec3::new(-1.0, 0.0, 0.0), &Vec3::zeros(), &Vec3::zeros());
+    let l = c.load(
+        0.01,
+        &n,
+        &Vec3::new(-1.0, 0.0, 0.0),
+        &Vec3::zeros(),
+        &Vec3::zeros(),
+    );
     // j approaches i along -n: the squeeze force on i points away from j.
     assert!(l.force_i.x < 0.0);
 }
@@ -69,7 +90,10 @@ fn rigid_motion_feels_no_lubrication_to_leading_order() {
             // Translation: exactly zero.
             let u = random_vec(&mut rng);
             let l = c.load(xi, &n, &(u - u), &Vec3::zeros(), &Vec3::zeros());
-            assert_eq!(l.force_i.norm() + l.torque_i.norm() + l.torque_j.norm(), 0.0);
+            assert_eq!(
+                l.force_i.norm() + l.torque_i.norm() + l.torque_j.norm(),
+                0.0
+            );
             // Rotation about the origin with angular velocity w: v = w x x, spin = w.
             let w = random_unit(&mut rng);
             let (v_i, v_j) = (w.cross(&x_i), w.cross(&x_j));
@@ -80,7 +104,10 @@ fn rigid_motion_feels_no_lubrication_to_leading_order() {
             let scale_t = c.yc11 * log;
             let rel_f = l.force_i.norm() / scale_f;
             let rel_t = l.torque_i.norm().max(l.torque_j.norm()) / scale_t;
-            assert!(rel_f < 2.0 * xi && rel_t < 2.0 * xi, "beta {beta} xi {xi}: residual force {rel_f}, torque {rel_t}");
+            assert!(
+                rel_f < 2.0 * xi && rel_t < 2.0 * xi,
+                "beta {beta} xi {xi}: residual force {rel_f}, torque {rel_t}"
+            );
         }
     }
 }
@@ -111,11 +138,22 @@ fn angular_momentum_is_conserved_to_leading_order() {
             let dist = (a_i + a_j) * (1.0 + 0.5 * xi.max(0.0));
             let x_i = random_vec(&mut rng) * 3.0;
             let x_j = x_i + n * dist;
-            let (v_i, v_j, w_i, w_j) = (random_vec(&mut rng), random_vec(&mut rng), random_vec(&mut rng), random_vec(&mut rng));
+            let (v_i, v_j, w_i, w_j) = (
+                random_vec(&mut rng),
+                random_vec(&mut rng),
+                random_vec(&mut rng),
+                random_vec(&mut rng),
+            );
             let l = c.load(xi, &n, &(v_j - v_i), &w_i, &w_j);
             let total = x_i.cross(&l.force_i) - x_j.cross(&l.force_i) + l.torque_i + l.torque_j;
-            let scale = l.torque_i.norm() + l.torque_j.norm() + (x_j - x_i).cross(&l.force_i).norm();
-            assert!(total.norm() <= 2.0 * xi.max(XI_MIN) * scale + 1e-12, "beta {beta} xi {xi}: {} of {}", total.norm(), scale);
+            let scale =
+                l.torque_i.norm() + l.torque_j.norm() + (x_j - x_i).cross(&l.force_i).norm();
+            assert!(
+                total.norm() <= 2.0 * xi.max(XI_MIN) * scale + 1e-12,
+                "beta {beta} xi {xi}: {} of {}",
+                total.norm(),
+                scale
+            );
         }
     }
 }
@@ -125,7 +163,11 @@ fn lubrication_vanishes_beyond_the_cutoff_and_saturates_below_xi_min() {
     let c = LubricationCoefficients::new(1.0, 1.4, 1.0, XI_MIN, XI_MAX);
     let n = Vec3::y();
     let dv = Vec3::new(0.3, -1.0, 0.2);
-    assert_eq!(c.load(XI_MAX, &n, &dv, &Vec3::zeros(), &Vec3::zeros()).force_i, Vec3::zeros());
+    assert_eq!(
+        c.load(XI_MAX, &n, &dv, &Vec3::zeros(), &Vec3::zeros())
+            .force_i,
+        Vec3::zeros()
+    );
     let at_min = c.load(XI_MIN, &n, &dv, &Vec3::zeros(), &Vec3::zeros());
     let overlapping = c.load(-0.01, &n, &dv, &Vec3::zeros(), &Vec3::zeros());
     assert_eq!(at_min, overlapping);

@@ -16,10 +16,18 @@ fn tiny() -> Scene {
 }
 
 fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
-    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(f)
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
 }
 
-fn rows(scene: &Scene, opts: &RunOptions, stop_after: Option<(usize, &'static AtomicBool)>) -> Result<String, SimError> {
+fn rows(
+    scene: &Scene,
+    opts: &RunOptions,
+    stop_after: Option<(usize, &'static AtomicBool)>,
+) -> Result<String, SimError> {
     let mut seen = 0;
     let out = run(scene, opts, &mut |_, _| {
         seen += 1;
@@ -43,11 +51,18 @@ fn same_seed_same_output_and_resume_is_identical() {
         let plain = RunOptions::default();
         let first = rows(&scene, &plain, None).unwrap();
         let second = rows(&scene, &plain, None).unwrap();
-        assert_eq!(first, second, "same seed, same threads: output must be identical");
+        assert_eq!(
+            first, second,
+            "same seed, same threads: output must be identical"
+        );
 
         // Interrupt twice, resuming each time: at snapshot 7 (equilibrating, 40 snapshots) and
         // at snapshot 52 (averaging).
-        let opts = RunOptions { checkpoint: Some(checkpoint.clone()), resume: true, interrupt: Some(&STOP) };
+        let opts = RunOptions {
+            checkpoint: Some(checkpoint.clone()),
+            resume: true,
+            interrupt: Some(&STOP),
+        };
         for stop_at in [7, 45] {
             STOP.store(false, Ordering::SeqCst);
             match rows(&scene, &opts, Some((stop_at, &STOP))) {
@@ -58,7 +73,10 @@ fn same_seed_same_output_and_resume_is_identical() {
         }
         STOP.store(false, Ordering::SeqCst);
         let resumed = rows(&scene, &opts, None).unwrap();
-        assert_eq!(first, resumed, "checkpoint + resume must reproduce the uninterrupted run");
+        assert_eq!(
+            first, resumed,
+            "checkpoint + resume must reproduce the uninterrupted run"
+        );
     });
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -69,8 +87,15 @@ fn a_checkpoint_of_another_scene_is_refused() {
     let scene = tiny();
     let dir = std::env::temp_dir().join(format!("suspflow-other-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let opts = RunOptions { checkpoint: Some(dir.join("checkpoint.json")), resume: true, interrupt: Some(&STOP) };
-    assert!(matches!(rows(&scene, &opts, Some((2, &STOP))), Err(SimError::Interrupted { .. })));
+    let opts = RunOptions {
+        checkpoint: Some(dir.join("checkpoint.json")),
+        resume: true,
+        interrupt: Some(&STOP),
+    };
+    assert!(matches!(
+        rows(&scene, &opts, Some((2, &STOP))),
+        Err(SimError::Interrupted { .. })
+    ));
     let mut other = scene.file.clone();
     other.seed += 1;
     let other = Scene::from_file(other, false).unwrap();
@@ -92,10 +117,18 @@ fn steady_momentum_balance_holds() {
     let scene = Scene::from_file(file, false).unwrap();
     let out = on_threads(2, || run(&scene, &RunOptions::default(), &mut |_, _| {})).unwrap();
     let residual = out.profile.momentum_residual.unwrap();
-    assert!(residual < 0.1, "momentum residual {residual} of the drag scale");
+    assert!(
+        residual < 0.1,
+        "momentum residual {residual} of the drag scale"
+    );
     // The balance is not trivially satisfied: the drag density itself is far from zero.
-    let drag_rms = (out.profile.mean.f_x.iter().map(|f| f * f).sum::<f64>() / out.profile.mean.f_x.len() as f64).sqrt();
-    assert!(drag_rms > 1e-3, "drag density {drag_rms} too small to test the balance");
+    let drag_rms = (out.profile.mean.f_x.iter().map(|f| f * f).sum::<f64>()
+        / out.profile.mean.f_x.len() as f64)
+        .sqrt();
+    assert!(
+        drag_rms > 1e-3,
+        "drag density {drag_rms} too small to test the balance"
+    );
     assert!(out.summary.strain_to_steady > 0.0);
 }
 
@@ -107,14 +140,29 @@ fn binned_solid_volume_sums_to_the_total() {
     let mut sums = vec![0.0; field::FIELDS * scene.n_bins];
     snapshot::accumulate(&sim, &bins, &mut sums);
     let nb = scene.n_bins;
-    let binned: f64 = sums[field::VOLUME * nb..(field::VOLUME + 1) * nb].iter().sum();
+    let binned: f64 = sums[field::VOLUME * nb..(field::VOLUME + 1) * nb]
+        .iter()
+        .sum();
     let total = sim.particles.solid_volume();
-    assert!((binned - total).abs() < 1e-12 * total, "binned {binned} vs total {total}");
+    assert!(
+        (binned - total).abs() < 1e-12 * total,
+        "binned {binned} vs total {total}"
+    );
     let [l_x, l_y, l_z] = scene.box_len;
-    let phi: f64 = sums[field::VOLUME * nb..(field::VOLUME + 1) * nb].iter().map(|v| v / (l_x * 2.0 * l_z)).sum::<f64>() / nb as f64;
-    assert!((phi - scene.phi_actual).abs() < 1e-12, "mean phi_loc {phi} vs phi {}", scene.phi_actual);
+    let phi: f64 = sums[field::VOLUME * nb..(field::VOLUME + 1) * nb]
+        .iter()
+        .map(|v| v / (l_x * 2.0 * l_z))
+        .sum::<f64>()
+        / nb as f64;
+    assert!(
+        (phi - scene.phi_actual).abs() < 1e-12,
+        "mean phi_loc {phi} vs phi {}",
+        scene.phi_actual
+    );
     assert!((scene.phi_actual - 0.5).abs() < 0.02 && l_y == 12.0);
     // Every particle centre is counted once.
-    let counted: f64 = sums[field::COUNT * nb..(field::COUNT + 1) * nb].iter().sum();
+    let counted: f64 = sums[field::COUNT * nb..(field::COUNT + 1) * nb]
+        .iter()
+        .sum();
     assert_eq!(counted as usize, sim.particles.len());
 }

@@ -16,9 +16,17 @@ fn a_time_step_far_above_the_lubrication_limit_is_caught_not_silent() {
     let scene = dense("dt_factor = 20.0");
     let mut sim = Simulation::new(&scene, initial_particles(&scene).unwrap()).unwrap();
     match sim.advance(20_000) {
-        Err(SimError::BlowUp { step, particle, cause, .. }) => {
+        Err(SimError::BlowUp {
+            step,
+            particle,
+            cause,
+            ..
+        }) => {
             assert!(step > 0 && particle < sim.particles.len());
-            assert!(cause.contains("time step") || cause.contains("k_n"), "cause: {cause}");
+            assert!(
+                cause.contains("time step") || cause.contains("k_n"),
+                "cause: {cause}"
+            );
         }
         other => panic!("expected a blow-up, got {other:?}"),
     }
@@ -29,7 +37,11 @@ fn the_automatic_time_step_is_stable_on_the_same_scene() {
     let scene = dense("");
     let mut sim = Simulation::new(&scene, initial_particles(&scene).unwrap()).unwrap();
     sim.advance(20_000).unwrap();
-    assert!(sim.particles.vel.iter().all(|v| v.iter().all(|c| c.is_finite())));
+    assert!(sim
+        .particles
+        .vel
+        .iter()
+        .all(|v| v.iter().all(|c| c.is_finite())));
     assert!(sim.contacts.max_overlap_ratio < 0.05);
 }
 

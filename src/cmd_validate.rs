@@ -111,7 +111,12 @@ fn records(checked: &[Checked]) -> Vec<Record<'_>> {
     let mut records = Vec::new();
     for c in checked {
         for (j, output) in c.mapping.outputs.iter().enumerate() {
-            for error in &c.validation.errors {
+            for error in c
+                .validation
+                .errors
+                .iter()
+                .chain(&c.validation.domain_errors)
+            {
                 records.push(Record {
                     mapping: c.mapping.name,
                     output,
@@ -151,7 +156,12 @@ fn print_errors(c: &Checked) {
         .map(|o| format!("{o:>10}"))
         .collect();
     println!("  {:<width$} {:>5}{header}", "profile", "rows");
-    for error in &c.validation.errors {
+    for error in c
+        .validation
+        .errors
+        .iter()
+        .chain(&c.validation.domain_errors)
+    {
         let cells: String = error
             .per_output
             .iter()

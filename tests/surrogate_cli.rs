@@ -261,7 +261,10 @@ fn train_then_predict_reproduces_a_smooth_law() {
         s(&pred),
     ]);
     let text = std::fs::read_to_string(&pred).unwrap();
-    assert_eq!(text.lines().next().unwrap(), "J,phi_loc,phi,mu_pred");
+    assert_eq!(
+        text.lines().next().unwrap(),
+        "J,phi_loc,phi,mu_pred,in_domain,domain_distance"
+    );
     let got = numeric_column(&text, "mu_pred");
     let truth: Vec<f64> = std::fs::read_to_string(&data)
         .unwrap()
@@ -284,6 +287,113 @@ fn train_then_predict_reproduces_a_smooth_law() {
         / truth.iter().map(|b| b * b).sum::<f64>())
     .sqrt();
     assert!(err < 0.01, "in-sample relative error {err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The text cells of column `name` of a `predict` output.
+fn text_column(text: &str, name: &str) -> Vec<String> {
+    let mut lines = text.lines();
+    let index = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|c| c == name)
+        .unwrap();
+    lines
+        .map(|l| l.split(',').nth(index).unwrap().to_owned())
+        .collect()
+}
+
+#[test]
+fn rows_outside_the_training_domain_are_flagged_counted_and_scored_apart() {
+    let dir = scratch("domain");
+    let train = write(&dir, "train.csv", &table(&training_scenes(8, 20), &[], &[]));
+    let models = dir.join("models");
+    train_untuned(&train, &models, &["mu"]);
+    // Two of the training profiles binned more coarsely (local states between the training
+    // rows), except row 3 with a J far beyond the training maximum and row 5 with a phi of
+    // 0.60 (training phi 0.50-0.56).
+    let rows = table(&training_scenes(2, 10), &[], &[]);
+    let rows = with_cell(&rows, "J", 3, "0.9");
+    let rows = with_cell(&rows, "phi", 5, "0.6");
+    let input = write(&dir, "validate.csv", &rows);
+    let pred = dir.join("pred.csv");
+    let out = suspflow_ok(&[
+        "predict",
+        "--model",
+        s(&models.join("mu")),
+        "--input",
+        s(&input),
+        "--out",
+        s(&pred),
+    ]);
+    let text = std::fs::read_to_string(&pred).unwrap();
+    let flags = text_column(&text, "in_domain");
+    let distance = numeric_column(&text, "domain_distance");
+    assert_eq!(flags.len(), 20);
+    assert_eq!(flags[2], "false", "J beyond the training range");
+    assert_eq!(flags[4], "false", "phi beyond the training range");
+    let outside = flags.iter().filter(|f| *f == "false").count();
+    assert!(outside < 20, "every row outside: {flags:?} {distance:?}");
+    for (flag, d) in flags.iter().zip(&distance) {
+        // Inside means near enough: the flag and the distance agree wherever in range.
+        if *flag == "true" {
+            assert!(*d <= 1.0, "inside at distance {d}");
+        }
+    }
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains(&format!(
+            "{outside} of 20 rows lie outside the training domain"
+        )),
+        "{stderr}"
+    );
+
+    // validate: the errors of the rows inside and outside, each from predict's numbers.
+    let out = suspflow_ok(&[
+        "validate",
+        "--models",
+        s(&models),
+        "--data",
+        s(&input),
+        "--mapping",
+        "mu",
+        "--json",
+        "--plots",
+        s(&dir.join("plots")),
+    ]);
+    let records: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let lookup = |profile: &str| {
+        records
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["profile"] == profile)
+            .map(|r| r["rel_l2"].as_f64().unwrap())
+    };
+    let meta = read_json(&models.join("mu.meta.json"));
+    let range = &meta["scaling"]["ranges"][0];
+    let training_range = (
+        range["min"].as_f64().unwrap(),
+        range["max"].as_f64().unwrap(),
+    );
+    let truth = numeric_column(&rows, "mu");
+    let predicted = numeric_column(&text, "mu_pred");
+    for (profile, inside) in [("in domain", "true"), ("out of domain", "false")] {
+        let pick = |v: &[f64]| -> Vec<f64> {
+            v.iter()
+                .zip(&flags)
+                .filter(|(_, f)| *f == inside)
+                .map(|(&x, _)| x)
+                .collect()
+        };
+        let expected = rel_l2(&pick(&truth), &pick(&predicted), training_range);
+        let got = lookup(profile).unwrap_or_else(|| panic!("no `{profile}` record"));
+        assert!(
+            (got - expected).abs() <= 1e-4 * expected.max(1e-12),
+            "{profile}: {got} vs {expected}"
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -335,8 +445,12 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
             expected.insert((m.to_owned(), o.to_owned(), p.to_owned()));
         }
     }
-    assert_eq!(keys, expected);
-    assert_eq!(records.len(), expected.len());
+    // Besides the profiles: the rows inside and outside the training domain, where there are any.
+    let (domain, profiles): (BTreeSet<_>, BTreeSet<_>) = keys
+        .into_iter()
+        .partition(|(_, _, p)| p == "in domain" || p == "out of domain");
+    assert_eq!(profiles, expected);
+    assert!(!domain.is_empty());
 
     // The same errors from `predict` and the sidecar's training ranges.
     let lookup = |m: &str, o: &str, p: &str| {
@@ -621,7 +735,11 @@ fn empty_cells_are_skipped_and_counted_per_mapping() {
     ]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("theta: 2 of 40 rows"));
     let records: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(records.len(), 15);
+    let by_profile = records
+        .iter()
+        .filter(|r| !r["profile"].as_str().unwrap().contains("domain"))
+        .count();
+    assert_eq!(by_profile, 15);
     // A NaN written out is not an undefined value: it is refused, naming the row.
     let nan = write(
         &dir,

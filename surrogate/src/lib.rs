@@ -28,6 +28,7 @@ pub mod model;
 pub mod predictor;
 pub mod samples;
 pub mod scaling;
+pub mod training_domain;
 pub mod tuning;
 pub mod validation;
 mod xgboost_json;
@@ -47,7 +48,9 @@ pub use model::{ModelMeta, TrainedModel, TrainingData};
 pub use predictor::Predictor;
 pub use samples::Samples;
 pub use scaling::{MinMaxScaling, Range};
+pub use training_domain::{DomainCheck, TrainingDomain};
 pub use tuning::{standard_grid, Tuning};
 pub use validation::{
-    profile_names, seeds_validation_error, ProfileError, Validation, ALL_PROFILES, PROFILE_COLUMN,
+    profile_names, seeds_validation_error, ProfileError, Validation, ALL_PROFILES, IN_DOMAIN,
+    OUT_OF_DOMAIN, PROFILE_COLUMN,
 };

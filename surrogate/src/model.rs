@@ -14,6 +14,7 @@ use crate::mapping::Mapping;
 use crate::metrics::relative_l2_error;
 use crate::samples::Samples;
 use crate::scaling::MinMaxScaling;
+use crate::training_domain::TrainingDomain;
 
 /// Everything about a trained model except its trees.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -46,11 +47,12 @@ pub struct TrainingData {
     pub skipped_rows: usize,
 }
 
-/// A booster with its sidecar.
+/// A booster with its sidecar and the training domain of its features.
 #[derive(Debug)]
 pub struct TrainedModel {
     meta: ModelMeta,
     booster: Booster,
+    domain: TrainingDomain,
 }
 
 impl TrainedModel {
@@ -62,6 +64,7 @@ impl TrainedModel {
     /// Trains `mapping` on `samples`: outputs are min-max scaled on these samples, then learnt.
     pub fn fit(mapping: &Mapping, samples: &Samples, params: &HyperParameters) -> Result<Self> {
         check_columns(samples, mapping.features, mapping.outputs)?;
+        let domain = TrainingDomain::fit(samples)?;
         let scaling = MinMaxScaling::fit(samples.outputs.view())?;
         let scaled = scaling.scale(samples.outputs.view())?;
         let booster = Booster::train(
@@ -84,12 +87,21 @@ impl TrainedModel {
             },
             xgboost_version: xgboost_version(),
         };
-        Ok(TrainedModel { meta, booster })
+        Ok(TrainedModel {
+            meta,
+            booster,
+            domain,
+        })
     }
 
     /// The sidecar.
     pub fn meta(&self) -> &ModelMeta {
         &self.meta
+    }
+
+    /// Where the model's training rows lie in feature space.
+    pub fn domain(&self) -> &TrainingDomain {
+        &self.domain
     }
 
     /// Predictions in original units (rows x outputs) for the feature columns of `dataset`.
@@ -120,22 +132,27 @@ impl TrainedModel {
         Ok(self.meta.features.iter().cloned().zip(gains).collect())
     }
 
-    /// Writes `<dir>/<mapping>.json` (the booster, XGBoost JSON) and `<dir>/<mapping>.meta.json`,
-    /// creating `dir` if needed.
+    /// Writes `<dir>/<mapping>.json` (the booster, XGBoost JSON), `<dir>/<mapping>.meta.json`
+    /// and `<dir>/<mapping>.domain.json`, creating `dir` if needed.
     pub fn save(&self, dir: &Path) -> Result<()> {
         files::create_dir_all(dir)?;
-        let (booster_path, meta_path) = model_paths(dir, &self.meta.mapping);
-        self.booster.save_json(&booster_path)?;
-        files::write_json(&meta_path, &self.meta)
+        let paths = ModelPaths::new(dir, &self.meta.mapping);
+        self.booster.save_json(&paths.trees)?;
+        files::write_json(&paths.meta, &self.meta)?;
+        files::write_json(&paths.domain, &self.domain)
     }
 
     /// Reads the model of mapping `name` saved in `dir`, checking that the sidecar, the
     /// booster and the mapping's current definition agree on features and outputs.
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
-        let (meta, booster) = ModelMeta::load_with(dir, name, Booster::load_json, |b| {
+        let (meta, booster, domain) = ModelMeta::load_with(dir, name, Booster::load_json, |b| {
             (b.n_features(), b.n_outputs())
         })?;
-        Ok(TrainedModel { meta, booster })
+        Ok(TrainedModel {
+            meta,
+            booster,
+            domain,
+        })
     }
 }
 
@@ -165,19 +182,22 @@ impl ModelMeta {
         dataset.matrix(&names)
     }
 
-    /// Reads the sidecar `<dir>/<name>.meta.json` and the trees `<dir>/<name>.json` (with
-    /// `load_trees`), and checks that the sidecar, the trees' `(features, outputs)` counts
-    /// as `shape` tells them, and mapping `name`'s current definition agree.
+    /// Reads the sidecar `<dir>/<name>.meta.json`, the trees `<dir>/<name>.json` (with
+    /// `load_trees`) and the training domain `<dir>/<name>.domain.json`, and checks that the
+    /// sidecar, the trees' `(features, outputs)` counts as `shape` tells them, the domain's
+    /// feature count and mapping `name`'s current definition agree.
     pub(crate) fn load_with<T>(
         dir: &Path,
         name: &str,
         load_trees: impl FnOnce(&Path) -> Result<T>,
         shape: impl FnOnce(&T) -> (usize, usize),
-    ) -> Result<(Self, T)> {
+    ) -> Result<(Self, T, TrainingDomain)> {
         let mapping = Mapping::by_name(name)?;
-        let (trees_path, meta_path) = model_paths(dir, name);
-        let meta: ModelMeta = files::read_json(&meta_path)?;
-        let trees = load_trees(&trees_path)?;
+        let paths = ModelPaths::new(dir, name);
+        let (trees_path, meta_path) = (&paths.trees, &paths.meta);
+        let meta: ModelMeta = files::read_json(meta_path)?;
+        let trees = load_trees(trees_path)?;
+        let domain: TrainingDomain = files::read_json(&paths.domain)?;
         let (n_features, n_outputs) = shape(&trees);
         let mismatch = |detail: String| SurrogateError::FeatureMismatch {
             detail,
@@ -212,16 +232,43 @@ impl ModelMeta {
                 meta.scaling.ranges.len()
             )));
         }
-        Ok((meta, trees))
+        if domain.axes.len() != meta.features.len()
+            || !domain
+                .points
+                .len()
+                .is_multiple_of(meta.features.len().max(1))
+        {
+            return Err(mismatch(format!(
+                "{} has {} feature axes and {} coordinates, {} lists {} features",
+                paths.domain.display(),
+                domain.axes.len(),
+                domain.points.len(),
+                meta_path.display(),
+                meta.features.len()
+            )));
+        }
+        Ok((meta, trees, domain))
     }
 }
 
-/// `<dir>/<name>.json` (the trees) and `<dir>/<name>.meta.json` (the sidecar).
-fn model_paths(dir: &Path, name: &str) -> (PathBuf, PathBuf) {
-    (
-        dir.join(format!("{name}.json")),
-        dir.join(format!("{name}.meta.json")),
-    )
+/// The files of a saved model.
+struct ModelPaths {
+    /// `<dir>/<name>.json`: the trees (XGBoost JSON).
+    trees: PathBuf,
+    /// `<dir>/<name>.meta.json`: the sidecar.
+    meta: PathBuf,
+    /// `<dir>/<name>.domain.json`: the training domain.
+    domain: PathBuf,
+}
+
+impl ModelPaths {
+    fn new(dir: &Path, name: &str) -> Self {
+        ModelPaths {
+            trees: dir.join(format!("{name}.json")),
+            meta: dir.join(format!("{name}.meta.json")),
+            domain: dir.join(format!("{name}.domain.json")),
+        }
+    }
 }
 
 /// Fails unless `samples` holds exactly the columns `features` -> `outputs`, in that order.

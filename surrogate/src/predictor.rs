@@ -12,12 +12,14 @@ use crate::error::Result;
 use crate::files;
 use crate::forest::Forest;
 use crate::model::ModelMeta;
+use crate::training_domain::{DomainCheck, TrainingDomain};
 
 /// A saved model, ready to predict.
 #[derive(Debug, Clone)]
 pub struct Predictor {
     meta: ModelMeta,
     forest: Forest,
+    domain: TrainingDomain,
 }
 
 impl Predictor {
@@ -26,14 +28,28 @@ impl Predictor {
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         let read_trees =
             |path: &Path| Forest::from_json(&files::read(path)?, &path.display().to_string());
-        let (meta, forest) =
+        let (meta, forest, domain) =
             ModelMeta::load_with(dir, name, read_trees, |f| (f.n_features(), f.n_outputs()))?;
-        Ok(Predictor { meta, forest })
+        Ok(Predictor {
+            meta,
+            forest,
+            domain,
+        })
     }
 
     /// The sidecar.
     pub fn meta(&self) -> &ModelMeta {
         &self.meta
+    }
+
+    /// Where the training rows lie in feature space.
+    pub fn domain(&self) -> &TrainingDomain {
+        &self.domain
+    }
+
+    /// The training-domain check of every row of `dataset`.
+    pub fn check_domain(&self, dataset: &Dataset) -> Result<Vec<DomainCheck>> {
+        self.domain.check(self.meta.feature_matrix(dataset)?.view())
     }
 
     /// Predictions in original units (rows x outputs) for the feature columns of `dataset`.

@@ -16,6 +16,11 @@ pub const PROFILE_COLUMN: &str = "profile";
 /// The name under which the errors over all validation rows together are reported.
 pub const ALL_PROFILES: &str = "all";
 
+/// The names under which the errors over the rows inside and outside the model's training
+/// domain (see [`crate::training_domain`]) are reported.
+pub const IN_DOMAIN: &str = "in domain";
+pub const OUT_OF_DOMAIN: &str = "out of domain";
+
 /// The seeds' validation error for `output` of mapping `mapping` (thesis figures 6.2-6.4, on
 /// the two validation profiles of SPEC section 8 together), as a fraction.
 pub fn seeds_validation_error(mapping: &str, output: &str) -> Option<f64> {
@@ -55,6 +60,11 @@ pub struct Validation {
     /// One entry per profile, in order of first appearance in the dataset, then one for
     /// [`ALL_PROFILES`]. A profile all of whose rows were left out has no entry.
     pub errors: Vec<ProfileError>,
+    /// Whether each row of `samples` lies inside the model's training domain.
+    pub in_domain: Vec<bool>,
+    /// Errors over the rows inside ([`IN_DOMAIN`]) and outside ([`OUT_OF_DOMAIN`]) the
+    /// training domain, all profiles together; a class without rows has no entry.
+    pub domain_errors: Vec<ProfileError>,
 }
 
 impl Validation {
@@ -68,30 +78,39 @@ impl Validation {
             .iter()
             .map(|&row| all_profiles[row - 1].clone())
             .collect();
+        let group_error = |name: &str, select: &dyn Fn(usize) -> bool| -> Result<_> {
+            let rows: Vec<usize> = (0..samples.n_rows()).filter(|&i| select(i)).collect();
+            if rows.is_empty() {
+                return Ok(None);
+            }
+            Ok(Some(ProfileError {
+                per_output: model.evaluate(&samples.subset(&rows)?)?,
+                profile: name.to_owned(),
+                rows: rows.len(),
+            }))
+        };
         let mut errors = Vec::new();
         for profile in profile_names(dataset)? {
-            let rows: Vec<usize> = (0..profiles.len())
-                .filter(|&i| profiles[i] == profile)
-                .collect();
-            if !rows.is_empty() {
-                errors.push(ProfileError {
-                    per_output: model.evaluate(&samples.subset(&rows)?)?,
-                    profile,
-                    rows: rows.len(),
-                });
-            }
+            errors.extend(group_error(&profile, &|i| profiles[i] == profile)?);
         }
-        errors.push(ProfileError {
-            profile: ALL_PROFILES.to_owned(),
-            rows: samples.n_rows(),
-            per_output: model.evaluate(&samples)?,
-        });
+        errors.extend(group_error(ALL_PROFILES, &|_| true)?);
+        let in_domain: Vec<bool> = model
+            .domain()
+            .check(samples.features.view())?
+            .iter()
+            .map(|c| c.inside())
+            .collect();
+        let mut domain_errors = Vec::new();
+        domain_errors.extend(group_error(IN_DOMAIN, &|i| in_domain[i])?);
+        domain_errors.extend(group_error(OUT_OF_DOMAIN, &|i| !in_domain[i])?);
         let predicted = model.predict_features(samples.features.view())?;
         Ok(Validation {
             samples,
             profiles,
             predicted,
             errors,
+            in_domain,
+            domain_errors,
         })
     }
 }

@@ -74,6 +74,12 @@ fn tune(
     out: &std::path::Path,
 ) -> anyhow::Result<HyperParameters> {
     let tuning = Tuning::run(mapping, samples, &standard_grid())?;
+    if let Some(why) = &tuning.backbone_excluded {
+        eprintln!(
+            "warning: {}: settings with the physics backbone left out of the search: {why}",
+            mapping.name
+        );
+    }
     tuning
         .save(out)
         .with_context(|| format!("saving the {} tuning record", mapping.name))?;

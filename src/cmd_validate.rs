@@ -191,22 +191,38 @@ fn print_comparison(c: &Checked, train: Option<&Path>, models: &Path) -> anyhow:
     // (model, errors per output or why there are none, training time in s)
     let mut rows: Vec<(String, Result<Vec<f64>, String>, f64)> = Vec::new();
     let mut settings = vec![("as trained", meta.hyper_parameters.clone())];
+    let flipped = HyperParameters {
+        backbone: !meta.hyper_parameters.backbone,
+        ..meta.hyper_parameters.clone()
+    };
+    settings.push(if flipped.backbone {
+        ("the same on the backbone", flipped)
+    } else {
+        ("the same without backbone", flipped)
+    });
     if meta.hyper_parameters != HyperParameters::default() {
         settings.push(("XGBoost defaults", HyperParameters::default()));
     }
     for (label, params) in settings {
         let started = Instant::now();
-        let model = TrainedModel::fit(c.mapping, &training, &params)?;
+        // A backbone that cannot be fitted on these rows makes its row not applicable.
+        let errors = TrainedModel::fit(c.mapping, &training, &params)
+            .and_then(|model| model.evaluate(&c.validation.samples))
+            .map_err(|e| format!("not applicable: {e}"));
         let seconds = started.elapsed().as_secs_f64();
         rows.push((
             format!("xgboost, {label}: {}", describe(&params)),
-            Ok(model.evaluate(&c.validation.samples)?),
+            errors,
             seconds,
         ));
     }
     for (label, baseline) in [
         ("linear (linfa)", Baseline::Linear),
         ("log-linear (linfa, ln of features)", Baseline::LogLinear),
+        (
+            "backbone alone: mu = A J^b, phi_loc by eq 6.7",
+            Baseline::LocalRheology,
+        ),
     ] {
         let score = evaluate_baseline(baseline, &training, &c.validation.samples);
         let seconds = score

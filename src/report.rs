@@ -17,11 +17,16 @@ pub fn errors_by_output<S: AsRef<str>>(outputs: &[S], errors: &[f64]) -> String 
     pairs.join(", ")
 }
 
-/// The hyper-parameters a grid search varies, e.g. `300 rounds, depth 3, eta 0.1, min_child_weight 1`.
+/// The settings a grid search varies, e.g. `300 rounds, depth 3, eta 0.1, min_child_weight 1`,
+/// prefixed by `backbone + ` when the trees learn the backbone's residual.
 pub fn describe(params: &HyperParameters) -> String {
     format!(
-        "{} rounds, depth {}, eta {}, min_child_weight {}",
-        params.n_estimators, params.max_depth, params.learning_rate, params.min_child_weight
+        "{}{} rounds, depth {}, eta {}, min_child_weight {}",
+        if params.backbone { "backbone + " } else { "" },
+        params.n_estimators,
+        params.max_depth,
+        params.learning_rate,
+        params.min_child_weight
     )
 }
 

@@ -1,4 +1,5 @@
-//! Linear baselines (linfa) that a surrogate must beat, scored with the same metric.
+//! Baselines that a surrogate must beat, scored with the same metric: linear least squares
+//! (linfa) and the physics backbone alone ([`crate::local_rheology`]).
 
 use std::time::{Duration, Instant};
 
@@ -7,6 +8,7 @@ use linfa_linear::LinearRegression;
 use ndarray::{Array2, Axis};
 use serde::Serialize;
 
+use crate::backbone::Backbone;
 use crate::error::{Result, SurrogateError};
 use crate::metrics::relative_l2_error;
 use crate::samples::Samples;
@@ -20,6 +22,9 @@ pub enum Baseline {
     Linear,
     /// `y' = a + sum_i b_i ln x_i` (a power law in the features); every feature must be positive.
     LogLinear,
+    /// The local rheology alone: `mu = A J^b` and `phi_loc` from eq 6.7, fitted on the
+    /// training rows; the other features are not used.
+    LocalRheology,
 }
 
 /// How a baseline did on a test set.
@@ -49,6 +54,9 @@ pub fn evaluate_baseline(
             found: test.feature_names.clone(),
         });
     }
+    if baseline == Baseline::LocalRheology {
+        return evaluate_local_rheology(train, test);
+    }
     let train_features = baseline_features(baseline, train)?;
     let test_features = baseline_features(baseline, test)?;
     let started = Instant::now();
@@ -76,10 +84,31 @@ pub fn evaluate_baseline(
     })
 }
 
+/// The backbone fitted on `train`, scored on `test`.
+fn evaluate_local_rheology(train: &Samples, test: &Samples) -> Result<BaselineScore> {
+    let started = Instant::now();
+    let scaling = MinMaxScaling::fit(train.outputs.view())?;
+    let (backbone, _) = Backbone::fit(train)?;
+    let training_time = started.elapsed();
+    let predicted = backbone.law_outputs(
+        &test.feature_names,
+        &test.output_names,
+        test.features.view(),
+    )?;
+    Ok(BaselineScore {
+        baseline: Baseline::LocalRheology,
+        per_output: relative_l2_error(
+            scaling.scale(test.outputs.view())?.view(),
+            scaling.scale(predicted.view())?.view(),
+        )?,
+        training_time,
+    })
+}
+
 /// The features `baseline` regresses on: as they are, or their natural logarithms.
 fn baseline_features(baseline: Baseline, samples: &Samples) -> Result<Array2<f64>> {
     match baseline {
-        Baseline::Linear => Ok(samples.features.clone()),
+        Baseline::Linear | Baseline::LocalRheology => Ok(samples.features.clone()),
         Baseline::LogLinear => {
             if let Some(((i, j), &value)) = samples.features.indexed_iter().find(|(_, &v)| v <= 0.0)
             {

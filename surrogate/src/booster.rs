@@ -65,6 +65,11 @@ pub struct HyperParameters {
     pub seed: u32,
     /// Number of threads; 0 means all cores.
     pub nthread: u32,
+    /// Whether the trees learn the residual of the local-rheology backbone
+    /// ([`crate::local_rheology`]) instead of the outputs themselves. Not an XGBoost
+    /// setting: it changes what the trees are trained on.
+    #[serde(default)]
+    pub backbone: bool,
 }
 
 impl Default for HyperParameters {
@@ -83,6 +88,7 @@ impl Default for HyperParameters {
             multi_strategy: MultiStrategy::default(),
             seed: 0,
             nthread: 1,
+            backbone: false,
         }
     }
 }

@@ -113,26 +113,32 @@ pub struct HyperParameterGrid {
     pub max_depth: Vec<u32>,
     pub learning_rate: Vec<f64>,
     pub min_child_weight: Vec<f64>,
+    /// With and/or without the physics backbone ([`HyperParameters::backbone`]).
+    #[serde(default)]
+    pub backbone: Vec<bool>,
 }
 
 impl HyperParameterGrid {
-    /// Every combination, in a fixed order (`n_estimators` varies slowest). An empty list of
-    /// values stands for `base`'s value.
+    /// Every combination, in a fixed order (`backbone` varies slowest, then `n_estimators`).
+    /// An empty list of values stands for `base`'s value.
     pub fn candidates(&self) -> Vec<HyperParameters> {
         let mut candidates = Vec::new();
-        for n_estimators in values_or(&self.n_estimators, self.base.n_estimators) {
-            for max_depth in values_or(&self.max_depth, self.base.max_depth) {
-                for learning_rate in values_or(&self.learning_rate, self.base.learning_rate) {
-                    for min_child_weight in
-                        values_or(&self.min_child_weight, self.base.min_child_weight)
-                    {
-                        candidates.push(HyperParameters {
-                            n_estimators,
-                            max_depth,
-                            learning_rate,
-                            min_child_weight,
-                            ..self.base.clone()
-                        });
+        for backbone in values_or(&self.backbone, self.base.backbone) {
+            for n_estimators in values_or(&self.n_estimators, self.base.n_estimators) {
+                for max_depth in values_or(&self.max_depth, self.base.max_depth) {
+                    for learning_rate in values_or(&self.learning_rate, self.base.learning_rate) {
+                        for min_child_weight in
+                            values_or(&self.min_child_weight, self.base.min_child_weight)
+                        {
+                            candidates.push(HyperParameters {
+                                n_estimators,
+                                max_depth,
+                                learning_rate,
+                                min_child_weight,
+                                backbone,
+                                ..self.base.clone()
+                            });
+                        }
                     }
                 }
             }

@@ -14,6 +14,7 @@
 //! The XGBoost library is the pinned `xgboost-cpu` wheel's `libxgboost.so`, provided by the
 //! workspace's `vendor/xgboost_lib-sys` crate; see its build script.
 
+pub mod backbone;
 pub mod baselines;
 pub mod booster;
 pub mod cross_validation;
@@ -22,6 +23,7 @@ pub mod error;
 mod files;
 mod fingerprint;
 pub mod forest;
+pub mod local_rheology;
 pub mod mapping;
 pub mod metrics;
 pub mod model;
@@ -42,6 +44,7 @@ pub use cross_validation::{
 pub use dataset::{Dataset, GROUP_COLUMN};
 pub use error::{Result, SurrogateError};
 pub use forest::Forest;
+pub use local_rheology::LocalRheology;
 pub use mapping::{Mapping, MAPPINGS};
 pub use metrics::relative_l2_error;
 pub use model::{ModelMeta, TrainedModel, TrainingData};

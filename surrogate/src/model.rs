@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use ndarray::{Array2, ArrayView2};
 use serde::{Deserialize, Serialize};
 
+use crate::backbone::Backbone;
 use crate::booster::{xgboost_version, Booster, HyperParameters};
 use crate::dataset::Dataset;
 use crate::error::{Result, SurrogateError};
@@ -25,8 +26,13 @@ pub struct ModelMeta {
     pub features: Vec<String>,
     /// Output columns, in the order the booster predicts them.
     pub outputs: Vec<String>,
-    /// Ranges of the outputs in the training set; the booster predicts scaled outputs.
+    /// Ranges of the outputs in the training set (eq 6.4, also the metric's scaling); the
+    /// booster predicts scaled outputs, or scaled residuals when there is a backbone.
     pub scaling: MinMaxScaling,
+    /// The physics backbone whose residual the trees learn, for models trained with
+    /// [`HyperParameters::backbone`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub backbone: Option<Backbone>,
     pub hyper_parameters: HyperParameters,
     pub training_data: TrainingData,
     /// Version of the XGBoost library that trained the booster.
@@ -66,10 +72,15 @@ impl TrainedModel {
         check_columns(samples, mapping.features, mapping.outputs)?;
         let domain = TrainingDomain::fit(samples)?;
         let scaling = MinMaxScaling::fit(samples.outputs.view())?;
-        let scaled = scaling.scale(samples.outputs.view())?;
+        let (backbone, targets) = if params.backbone {
+            let (backbone, residuals) = Backbone::fit(samples)?;
+            (Some(backbone), residuals)
+        } else {
+            (None, scaling.scale(samples.outputs.view())?)
+        };
         let booster = Booster::train(
             samples.features.view(),
-            scaled.view(),
+            targets.view(),
             mapping.features,
             params,
         )?;
@@ -78,6 +89,7 @@ impl TrainedModel {
             features: samples.feature_names.clone(),
             outputs: samples.output_names.clone(),
             scaling,
+            backbone,
             hyper_parameters: params.clone(),
             training_data: TrainingData {
                 source: samples.source_name.clone(),
@@ -113,8 +125,7 @@ impl TrainedModel {
     /// [`ModelMeta::features`] order.
     pub fn predict_features(&self, features: ArrayView2<f64>) -> Result<Array2<f64>> {
         self.meta
-            .scaling
-            .unscale(self.booster.predict(features)?.view())
+            .outputs(features, self.booster.predict(features)?.view())
     }
 
     /// Relative L2 error of each output on `samples` (SPEC metric, thesis eq 6.6), on outputs
@@ -122,7 +133,10 @@ impl TrainedModel {
     pub fn evaluate(&self, samples: &Samples) -> Result<Vec<f64>> {
         check_columns(samples, &self.meta.features, &self.meta.outputs)?;
         let truth = self.meta.scaling.scale(samples.outputs.view())?;
-        let predicted = self.booster.predict(samples.features.view())?;
+        let predicted = self
+            .meta
+            .scaling
+            .scale(self.predict_features(samples.features.view())?.view())?;
         relative_l2_error(truth.view(), predicted.view())
     }
 
@@ -157,6 +171,19 @@ impl TrainedModel {
 }
 
 impl ModelMeta {
+    /// Outputs in original units from the trees' predictions `scaled` for rows `features`:
+    /// unscaled outputs, or the backbone plus unscaled residuals.
+    pub fn outputs(
+        &self,
+        features: ArrayView2<f64>,
+        scaled: ArrayView2<f64>,
+    ) -> Result<Array2<f64>> {
+        match &self.backbone {
+            None => self.scaling.unscale(scaled),
+            Some(backbone) => backbone.outputs(&self.features, &self.outputs, features, scaled),
+        }
+    }
+
     /// The feature columns of `dataset`, in the model's order, as a matrix of finite numbers;
     /// a missing column is a [`SurrogateError::FeatureMismatch`].
     pub fn feature_matrix(&self, dataset: &Dataset) -> Result<Array2<f64>> {

@@ -61,6 +61,6 @@ impl Predictor {
     /// [`ModelMeta::features`] order.
     pub fn predict_features(&self, features: ArrayView2<f64>) -> Result<Array2<f64>> {
         let scaled = self.forest.predict(features)?;
-        self.meta.scaling.unscale(scaled.view())
+        self.meta.outputs(features, scaled.view())
     }
 }

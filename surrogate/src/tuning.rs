@@ -10,19 +10,21 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+use crate::backbone::Backbone;
 use crate::booster::HyperParameters;
 use crate::cross_validation::{
-    cross_validate, grid_search, leave_one_group_out, CvScore, HyperParameterGrid,
+    cross_validate, grid_search, leave_one_group_out, CvScore, Fold, HyperParameterGrid,
 };
 use crate::error::{Result, SurrogateError};
 use crate::files;
 use crate::mapping::Mapping;
 use crate::samples::Samples;
 
-/// The grid `suspflow train` searches: 2 x 4 x 3 x 2 = 48 settings around XGBoost's
-/// defaults (which it contains), with shallow trees, slower learning and heavier leaves
-/// (`min_child_weight`, a sum of unit hessians: rows per leaf) for smoother fits of about
-/// 300 noisy rows from 8 simulations. At most 300 rounds, so that training all three
+/// The grid `suspflow train` searches: 2 x 2 x 4 x 3 x 2 = 96 settings around XGBoost's
+/// defaults (which it contains): trees on the outputs or on the residual of the physics
+/// backbone ([`crate::local_rheology`]), with shallow trees, slower learning and heavier
+/// leaves (`min_child_weight`, a sum of unit hessians: rows per leaf) for smoother fits of
+/// about 300 noisy rows from 8 simulations. At most 300 rounds, so that training all three
 /// mappings with any of them stays well under a second.
 pub fn standard_grid() -> HyperParameterGrid {
     HyperParameterGrid {
@@ -31,6 +33,7 @@ pub fn standard_grid() -> HyperParameterGrid {
         max_depth: vec![2, 3, 4, 6],
         learning_rate: vec![0.05, 0.1, 0.3],
         min_child_weight: vec![1.0, 5.0],
+        backbone: vec![false, true],
     }
 }
 
@@ -58,6 +61,10 @@ pub struct Tuning {
     pub untuned: CvScore,
     /// Wall time of the whole search, in seconds.
     pub seconds: f64,
+    /// Why the settings with the physics backbone were left out of the search, if they were:
+    /// the backbone's laws could not be fitted on every fold's training rows.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub backbone_excluded: Option<String>,
 }
 
 impl Tuning {
@@ -74,7 +81,13 @@ impl Tuning {
                 samples.source_name
             ))
         })?;
-        let search = grid_search(mapping, samples, &folds, grid)?;
+        let backbone_excluded = backbone_unfittable(samples, &folds)?;
+        let mut searched = grid.clone();
+        if backbone_excluded.is_some() {
+            searched.backbone.retain(|&b| !b);
+            searched.base.backbone = false;
+        }
+        let search = grid_search(mapping, samples, &folds, &searched)?;
         let defaults = HyperParameters::default();
         let untuned = match search.scores.iter().find(|score| score.params == defaults) {
             Some(score) => score.clone(),
@@ -97,6 +110,7 @@ impl Tuning {
             chosen: search.best,
             untuned,
             seconds: started.elapsed().as_secs_f64(),
+            backbone_excluded,
         })
     }
 
@@ -115,4 +129,14 @@ impl Tuning {
     pub fn path(dir: &Path, name: &str) -> PathBuf {
         dir.join(format!("{name}.tuning.json"))
     }
+}
+
+/// Why the backbone cannot be fitted on the training rows of one of `folds`, if it cannot.
+fn backbone_unfittable(samples: &Samples, folds: &[Fold]) -> Result<Option<String>> {
+    for fold in folds {
+        if let Err(e) = Backbone::fit(&samples.subset(&fold.train)?) {
+            return Ok(Some(e.to_string()));
+        }
+    }
+    Ok(None)
 }

@@ -115,6 +115,7 @@ fn cross_validation_and_grid_search_are_deterministic_and_pick_the_minimum() {
         max_depth: vec![2, 4],
         learning_rate: vec![0.3],
         min_child_weight: vec![],
+        backbone: vec![],
     };
     let first = grid_search(mapping, &samples, &folds, &grid).unwrap();
     let second = grid_search(mapping, &samples, &folds, &grid).unwrap();
@@ -150,6 +151,7 @@ fn tuning_leaves_one_simulation_out_and_compares_with_the_defaults() {
         max_depth: vec![2],
         learning_rate: vec![0.1],
         min_child_weight: vec![],
+        backbone: vec![],
     };
     let tuning = Tuning::run(mapping, &samples, &grid).unwrap();
     assert_eq!(tuning.folds, 5);
@@ -176,7 +178,10 @@ fn tuning_leaves_one_simulation_out_and_compares_with_the_defaults() {
 fn the_standard_grid_holds_the_defaults_and_stays_small() {
     let candidates = standard_grid().candidates();
     assert!(candidates.contains(&HyperParameters::default()));
-    assert!(candidates.len() <= 50, "{} settings", candidates.len());
+    // Each setting costs one fit per simulation: 96 x 8 fits of 300 rows take ~10 s.
+    assert!(candidates.len() <= 100, "{} settings", candidates.len());
+    // Both kinds of model are searched: trees alone and trees on the backbone's residual.
+    assert!(candidates.iter().any(|p| p.backbone) && candidates.iter().any(|p| !p.backbone));
     assert!(candidates.iter().all(|p| p.n_estimators <= 300));
 }
 
@@ -190,4 +195,32 @@ fn tuning_one_simulation_is_a_clear_error() {
         error.to_string().contains("at least 2 simulations"),
         "{error}"
     );
+}
+
+#[test]
+fn tuning_leaves_out_the_backbone_where_its_laws_do_not_fit() {
+    // phi_loc grows with J, so with sqrt(J / mu): no jamming law (eq 6.7) to fit.
+    let mut csv = String::from("scene_id,J,Delta_v,phi,phi_loc,mu\n");
+    for scene in 0..4 {
+        for bin in 1..10 {
+            let j = 0.01 * bin as f64 + 0.001 * scene as f64;
+            csv += &format!("s{scene},{j},0.05,0.54,{},{}\n", 0.5 + j, 2.0 * j.sqrt());
+        }
+    }
+    let data = surrogate::Dataset::from_csv_bytes(csv.as_bytes(), "rising").unwrap();
+    let mapping = Mapping::by_name("dv").unwrap();
+    let samples = Samples::from_dataset(&data, mapping).unwrap();
+    let grid = HyperParameterGrid {
+        base: HyperParameters::default(),
+        n_estimators: vec![20],
+        max_depth: vec![2],
+        learning_rate: vec![0.1],
+        min_child_weight: vec![],
+        backbone: vec![false, true],
+    };
+    let tuning = Tuning::run(mapping, &samples, &grid).unwrap();
+    let why = tuning.backbone_excluded.as_deref().unwrap();
+    assert!(why.contains("eq 6.7"), "{why}");
+    assert_eq!(tuning.scores.len(), 1);
+    assert!(!tuning.chosen.params.backbone);
 }

@@ -15,6 +15,7 @@ mod convergence_report;
 mod dataset_file;
 mod descriptor_noise;
 mod loglog_plot;
+mod output_guard;
 mod plot;
 mod report;
 mod scene_work;

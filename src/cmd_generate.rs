@@ -8,7 +8,13 @@
 //! the same command skips finished scenes and resumes the others from their checkpoints.
 //! After each scene the dataset is rewritten atomically with the finished scenes in grid
 //! order, so it is always complete and the same as an uninterrupted run's.
+//!
+//! An existing `<FILE>` (or scene table) is replaced only if this grid wrote it (its work
+//! directory holds one of the grid's scenes) or with `--force`; a lock in the work
+//! directory keeps a second run on the same output out.
 use crate::dataset_file::DatasetFile;
+use crate::file_lock::FileLock;
+use crate::output_guard;
 use crate::scene_work::{SceneStatus, SceneWork};
 use anyhow::{bail, Context};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
@@ -56,6 +62,9 @@ pub struct Args {
     /// List the scenes with their size, time step and cost, and run nothing.
     #[arg(long)]
     check: bool,
+    /// Replace an existing dataset or scene table that this grid did not write.
+    #[arg(long)]
+    force: bool,
 }
 
 fn parse_shard(s: &str) -> Result<(usize, usize), String> {
@@ -116,6 +125,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return Ok(());
     }
     let outputs = Outputs::new(&args);
+    guard_outputs(&outputs, &scenes, args.force)?;
     if let Some(parent) = outputs
         .dataset
         .parent()
@@ -124,6 +134,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("creating {}", parent.display()))?;
     }
+    std::fs::create_dir_all(&outputs.work)
+        .with_context(|| format!("creating {}", outputs.work.display()))?;
+    let _lock = FileLock::acquire(
+        &outputs.work.join("generate.lock"),
+        &outputs.dataset.display().to_string(),
+    )?;
     let mut todo = Vec::new();
     for gs in &scenes {
         let work = SceneWork::new(&outputs.work, &gs.id);
@@ -212,6 +228,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return Err(e);
     }
     report(&outputs, &scenes)
+}
+
+/// Refuses to replace a dataset or scene table that this grid did not write: one counts as
+/// the grid's own when the work directory holds a folder of one of its scenes.
+fn guard_outputs(outputs: &Outputs, scenes: &[&GridScene], force: bool) -> anyhow::Result<()> {
+    output_guard::out_file(&outputs.dataset)?;
+    let ours = scenes.iter().any(|gs| {
+        SceneWork::new(&outputs.work, &gs.id)
+            .dir
+            .join("scene.toml")
+            .exists()
+    });
+    if !ours {
+        let what = format!(
+            "not written by this grid: {} holds none of its scenes",
+            outputs.work.display()
+        );
+        for file in [&outputs.dataset, &outputs.scene_table] {
+            output_guard::refuse_unless_force(file, force, &what, "choose another --out")?;
+        }
+    }
+    Ok(())
 }
 
 /// Runs one scene into its work folder; a failure of the scene itself is recorded there,

@@ -3,7 +3,6 @@
 //! by `surrogate::Predictor`, which does not load the XGBoost library's model: a profile
 //! takes milliseconds end to end (`suspflow bench-predict`).
 use anyhow::Context;
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 use surrogate::{Dataset, Predictor};
@@ -34,21 +33,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let dataset = Dataset::read_csv(&args.input)?;
     let predicted = model.predict(&dataset)?;
     let elapsed = started.elapsed();
-    let meta = model.meta();
-    let mut out = String::new();
-    let mut header: Vec<String> = meta.features.clone();
-    header.extend(meta.outputs.iter().map(|o| format!("{o}_pred")));
-    let _ = writeln!(out, "{}", header.join(","));
-    let names: Vec<&str> = meta.features.iter().map(String::as_str).collect();
-    let features = dataset.matrix(&names)?;
-    for (row, pred) in features.rows().into_iter().zip(predicted.rows()) {
-        let cells: Vec<String> = row
-            .iter()
-            .chain(pred.iter())
-            .map(|x| format!("{x:e}"))
-            .collect();
-        let _ = writeln!(out, "{}", cells.join(","));
-    }
+    let predicted: Vec<Vec<f64>> = predicted.rows().into_iter().map(|r| r.to_vec()).collect();
+    let out = with_predictions(&dataset, &model.meta().outputs, &predicted)?;
     match &args.out {
         Some(path) => {
             std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))?
@@ -62,4 +48,32 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         elapsed.as_secs_f64() * 1e3
     );
     Ok(())
+}
+
+/// The input table, every column as read, followed by one column `<output>_pred` per output
+/// (CSV quoted where a cell needs it).
+fn with_predictions(
+    dataset: &Dataset,
+    outputs: &[String],
+    predicted: &[Vec<f64>],
+) -> anyhow::Result<String> {
+    let names = dataset.column_names();
+    let columns = names
+        .iter()
+        .map(|n| dataset.text(n))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut writer = csv::Writer::from_writer(Vec::new());
+    let header = names
+        .iter()
+        .cloned()
+        .chain(outputs.iter().map(|o| format!("{o}_pred")));
+    writer.write_record(header)?;
+    for (row, pred) in predicted.iter().enumerate() {
+        let cells = columns
+            .iter()
+            .map(|c| c[row].clone())
+            .chain(pred.iter().map(|x| format!("{x:e}")));
+        writer.write_record(cells)?;
+    }
+    Ok(String::from_utf8(writer.into_inner()?)?)
 }

@@ -326,3 +326,80 @@ fn compare_finds_a_profile_agrees_with_itself_and_not_with_another_scene() {
     // phi = 0.45 against phi = 0.5: far beyond the noise.
     assert!(z2(&a, &b) > 10.0, "{}", z2(&a, &b));
 }
+
+#[test]
+fn generate_keeps_a_dataset_it_did_not_write_unless_forced() {
+    let dir = temp_dir("foreign");
+    let out = dir.join("mine.csv");
+    std::fs::write(&out, "precious,data\n1,2\n").unwrap();
+    let o = generate("tests/grids/tiny.toml", &out, &["--shard", "0/4"]);
+    let err = stderr(&o);
+    assert!(
+        !o.status.success()
+            && err.contains("mine.csv already exists (not written by this grid")
+            && err.contains("--force"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        "precious,data\n1,2\n"
+    );
+    let o = generate(
+        "tests/grids/tiny.toml",
+        &out,
+        &["--shard", "0/4", "--force"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Once the grid has written it, re-running needs no --force.
+    let o = generate("tests/grids/tiny.toml", &out, &["--shard", "0/4"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A directory as --out is named as such.
+    let o = generate("tests/grids/tiny.toml", &dir, &[]);
+    assert!(
+        stderr(&o).contains("is a directory; give a file name"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn a_second_generate_on_the_same_output_is_refused_naming_the_first() {
+    let dir = temp_dir("lock");
+    let out = dir.join("tiny.csv");
+    let mut first = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+        .args([
+            "generate",
+            "tests/grids/tiny.toml",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .current_dir(root())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = dir.join("tiny.csv.work/generate.lock");
+    let started = Instant::now();
+    while std::fs::read_to_string(&lock)
+        .unwrap_or_default()
+        .is_empty()
+    {
+        assert!(started.elapsed() < Duration::from_secs(60), "no lock taken");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let second = generate("tests/grids/tiny.toml", &out, &[]);
+    Command::new("kill")
+        .args(["-INT", &first.id().to_string()])
+        .status()
+        .unwrap();
+    let finished_first = first.wait().unwrap().success();
+    let err = stderr(&second);
+    assert!(
+        finished_first
+            || (!second.status.success()
+                && err.contains("is in use by another `suspflow generate`")
+                && err.contains(&format!("process {}", first.id()))),
+        "{err}"
+    );
+    assert!(!err.contains("No such file"), "{err}");
+}

@@ -133,7 +133,7 @@ impl TrainedModel {
     /// booster and the mapping's current definition agree on features and outputs.
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         let (meta, booster) = ModelMeta::load_with(dir, name, Booster::load_json, |b| {
-            (b.n_features(), b.n_outputs())
+            (b.n_features(), b.n_outputs(), b.feature_names().to_vec())
         })?;
         Ok(TrainedModel { meta, booster })
     }
@@ -166,19 +166,20 @@ impl ModelMeta {
     }
 
     /// Reads the sidecar `<dir>/<name>.meta.json` and the trees `<dir>/<name>.json` (with
-    /// `load_trees`), and checks that the sidecar, the trees' `(features, outputs)` counts
-    /// as `shape` tells them, and mapping `name`'s current definition agree.
+    /// `load_trees`), and checks that the sidecar, the trees' `(features, outputs, feature
+    /// names)` as `shape` tells them, and mapping `name`'s current definition agree. Trees
+    /// that store no feature names are checked by their counts alone.
     pub(crate) fn load_with<T>(
         dir: &Path,
         name: &str,
         load_trees: impl FnOnce(&Path) -> Result<T>,
-        shape: impl FnOnce(&T) -> (usize, usize),
+        shape: impl FnOnce(&T) -> (usize, usize, Vec<String>),
     ) -> Result<(Self, T)> {
         let mapping = Mapping::by_name(name)?;
         let (trees_path, meta_path) = model_paths(dir, name);
         let meta: ModelMeta = files::read_json(&meta_path)?;
         let trees = load_trees(&trees_path)?;
-        let (n_features, n_outputs) = shape(&trees);
+        let (n_features, n_outputs, tree_features) = shape(&trees);
         let mismatch = |detail: String| SurrogateError::FeatureMismatch {
             detail,
             expected: mapping.features.iter().map(|&s| s.to_owned()).collect(),
@@ -210,6 +211,16 @@ impl ModelMeta {
                 meta.features.len(),
                 meta.outputs.len(),
                 meta.scaling.ranges.len()
+            )));
+        }
+        if !tree_features.is_empty() && tree_features != meta.features {
+            return Err(mismatch(format!(
+                "the trees in {} were trained on features [{}], not on the [{}] of {} (trees of \
+                 another mapping?)",
+                trees_path.display(),
+                tree_features.join(", "),
+                meta.features.join(", "),
+                meta_path.display()
             )));
         }
         Ok((meta, trees))

@@ -202,6 +202,41 @@ fn model_whose_booster_disagrees_is_refused_on_load() {
 }
 
 #[test]
+fn trees_of_another_mapping_with_the_same_shape_are_refused_by_feature_name() {
+    let data = synthetic_dataset(2, 10, 3);
+    let dir = scratch_dir("dv_as_theta");
+    for name in ["theta", "dv"] {
+        TrainedModel::train(
+            Mapping::by_name(name).unwrap(),
+            &data,
+            &HyperParameters::default(),
+        )
+        .unwrap()
+        .save(&dir)
+        .unwrap();
+    }
+    // dv's trees (J, Delta_v, phi) -> (phi_loc, mu) have theta's shape exactly.
+    std::fs::copy(dir.join("dv.json"), dir.join("theta.json")).unwrap();
+    let refusals = [
+        TrainedModel::load(&dir, "theta").unwrap_err(),
+        surrogate::Predictor::load(&dir, "theta").unwrap_err(),
+    ];
+    for error in refusals {
+        assert!(
+            matches!(error, SurrogateError::FeatureMismatch { .. }),
+            "{error:?}"
+        );
+        assert!(
+            error
+                .to_string()
+                .contains("trained on features [J, Delta_v, phi]"),
+            "{error}"
+        );
+    }
+    assert!(TrainedModel::load(&dir, "dv").is_ok());
+}
+
+#[test]
 fn input_lacking_a_model_feature_is_refused_on_predict() {
     let data = synthetic_dataset(2, 10, 4);
     let dir = scratch_dir("predict_mismatch");

@@ -403,3 +403,127 @@ fn a_second_generate_on_the_same_output_is_refused_naming_the_first() {
     );
     assert!(!err.contains("No such file"), "{err}");
 }
+
+#[test]
+fn plot_refuses_scattered_or_unsafe_scene_ids() {
+    let dir = temp_dir("plot-bad");
+    let lines: Vec<&str> = whole_tiny().lines().collect();
+    let plot = |name: &str, text: String| {
+        let data = dir.join(name);
+        std::fs::write(&data, text).unwrap();
+        let o = suspflow(&[
+            "plot",
+            data.to_str().unwrap(),
+            "--out",
+            dir.join("plots").to_str().unwrap(),
+        ]);
+        assert!(!o.status.success(), "{name} accepted");
+        stderr(&o)
+    };
+    // Scene tiny_000 again after tiny_001: one SVG would overwrite the other.
+    let scattered = format!(
+        "{}\n{}\n{}\n{}\n",
+        lines[0],
+        lines[1..7].join("\n"),
+        lines[7..13].join("\n"),
+        lines[1..7].join("\n")
+    );
+    let err = plot("scattered.csv", scattered);
+    assert!(
+        err.contains("data row 13: scene `tiny_000` appears again after other scenes"),
+        "{err}"
+    );
+    let escaping =
+        format!("{}\n{}\n", lines[0], lines[1..7].join("\n")).replace("tiny_000", "../../x");
+    let err = plot("escaping.csv", escaping);
+    assert!(err.contains("`../../x` starts with '.'"), "{err}");
+    let empty = format!("{}\n{}\n", lines[0], lines[1..7].join("\n")).replace("tiny_000", "");
+    let err = plot("empty.csv", empty);
+    assert!(
+        err.contains("data row 1, column `scene_id` is empty"),
+        "{err}"
+    );
+    assert!(!dir.join("x.svg").exists() && !dir.join("plots/.svg").exists());
+    // A byte-order mark before the header is read as nothing.
+    let marked = dir.join("marked.csv");
+    std::fs::write(
+        &marked,
+        format!("\u{feff}{}\n{}\n", lines[0], lines[1..7].join("\n")),
+    )
+    .unwrap();
+    let o = suspflow(&[
+        "plot",
+        marked.to_str().unwrap(),
+        "--out",
+        dir.join("plots").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("plots/tiny_000.svg").exists());
+}
+
+#[test]
+fn compare_refuses_several_scenes_bad_cells_and_negative_errors() {
+    let dir = temp_dir("compare-bad");
+    let lines: Vec<&str> = whole_tiny().lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let column = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let one = dir.join("one.csv");
+    std::fs::write(&one, format!("{}\n{}\n", lines[0], lines[1..7].join("\n"))).unwrap();
+    let compare = |name: &str, text: String| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let o = suspflow(&["compare", path.to_str().unwrap(), one.to_str().unwrap()]);
+        assert!(!o.status.success(), "{name} accepted");
+        stderr(&o)
+    };
+    let err = compare("all.csv", whole_tiny().clone());
+    assert!(
+        err.contains("holds 4 scenes (tiny_000, tiny_001, ...)"),
+        "{err}"
+    );
+    // One cell of scene tiny_000 replaced: row 3 (data rows from 1).
+    let with_cell = |name: &str, value: &str| {
+        let mut rows: Vec<String> = lines[1..7].iter().map(|l| l.to_string()).collect();
+        let mut cells: Vec<&str> = rows[2].split(',').collect();
+        cells[column(name)] = value;
+        rows[2] = cells.join(",");
+        format!("{}\n{}\n", lines[0], rows.join("\n"))
+    };
+    for (value, what) in [
+        ("NaN", "is not a finite number"),
+        ("inf", "is not a finite number"),
+    ] {
+        let err = compare("nan.csv", with_cell("mu", value));
+        assert!(
+            err.contains(&format!("row 3, column `mu`: `{value}` {what}")),
+            "{err}"
+        );
+    }
+    let err = compare("negative.csv", with_cell("phi_loc_se", "-1e-3"));
+    assert!(
+        err.contains("row 3, column `phi_loc_se`: `-1e-3` is negative; a standard error cannot be"),
+        "{err}"
+    );
+    let err = compare(
+        "long.csv",
+        with_cell("mu", &"9".repeat(500_000).replace("99", "9x")),
+    );
+    assert!(
+        err.contains("... (500000 bytes)` is not a number") && !err.contains(&"9x".repeat(100)),
+        "{}",
+        &err[..err.len().min(300)]
+    );
+    // merge refuses a negative standard error too, naming the line.
+    let negative = dir.join("negative.csv");
+    let o = suspflow(&[
+        "merge",
+        negative.to_str().unwrap(),
+        "--out",
+        dir.join("m.csv").to_str().unwrap(),
+    ]);
+    assert!(
+        stderr(&o).contains("line 4, column `phi_loc_se`: a standard error cannot be negative"),
+        "{}",
+        stderr(&o)
+    );
+}

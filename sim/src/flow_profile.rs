@@ -518,7 +518,17 @@ mod tests {
 
     #[test]
     fn refuses_garbage() {
-        for expr in ["", "0.1*sin(", "0.1*", "sin(2*pi*y/L))", "0.1 $ y", "y y"] {
+        // A quote or a newline can never reach the quoted `profile` cell of a CSV file.
+        for expr in [
+            "",
+            "0.1*sin(",
+            "0.1*",
+            "sin(2*pi*y/L))",
+            "0.1 $ y",
+            "y y",
+            "0.1\"*y",
+            "0.1*\nsin(2*pi*y/L)",
+        ] {
             let message = refusal(expr, 50.0);
             assert!(message.contains(&format!("`{expr}`")), "{message}");
         }

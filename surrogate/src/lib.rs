@@ -19,6 +19,7 @@ pub mod booster;
 pub mod cross_validation;
 pub mod dataset;
 pub mod error;
+pub mod excerpt;
 mod files;
 mod fingerprint;
 pub mod forest;
@@ -40,6 +41,7 @@ pub use cross_validation::{
 };
 pub use dataset::{Dataset, GROUP_COLUMN};
 pub use error::{Result, SurrogateError};
+pub use excerpt::excerpt;
 pub use forest::Forest;
 pub use mapping::{Mapping, MAPPINGS};
 pub use metrics::relative_l2_error;

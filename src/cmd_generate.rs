@@ -22,7 +22,6 @@ use sim::grid::{Grid, GridScene};
 use sim::run::{Phase, RunOptions};
 use sim::timestep::TimeStep;
 use sim::SimError;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
@@ -324,15 +323,44 @@ fn run_scene(
     Ok(())
 }
 
+/// Columns of the scene table copied from each finished scene's summary.json.
+const SUMMARY_KEYS: [&str; 10] = [
+    "dt",
+    "dt_limit",
+    "steps",
+    "strain_to_steady",
+    "strain_total",
+    "momentum_residual",
+    "mean_overlap",
+    "max_overlap",
+    "wall_s",
+    "code_version",
+];
+
 /// Rewrites the dataset (finished scenes in grid order) and the scene table, atomically.
 fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()> {
     let mut dataset = DatasetFile {
         header: sim::output::profile_header(),
         scenes: Default::default(),
     };
-    let mut table = String::from(
-        "scene_id,status,reason,n_particles,L_x,L_y,L_z,phi,profile,seed,rho,stokes,dt,dt_limit,steps,\
-         strain_to_steady,strain_total,momentum_residual,mean_overlap,max_overlap,wall_s,code_version\n");
+    // Written through the csv crate: a failure reason holds commas, quotes and newlines.
+    let mut table = csv::Writer::from_writer(Vec::new());
+    let mut header = vec![
+        "scene_id",
+        "status",
+        "reason",
+        "n_particles",
+        "L_x",
+        "L_y",
+        "L_z",
+        "phi",
+        "profile",
+        "seed",
+        "rho",
+        "stokes",
+    ];
+    header.extend(SUMMARY_KEYS);
+    table.write_record(&header)?;
     for gs in scenes {
         let work = SceneWork::new(&outputs.work, &gs.id);
         let (status, reason, summary) = match work.status()? {
@@ -346,41 +374,31 @@ fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()>
         };
         let f = &gs.scene.file;
         let [l_x, l_y, l_z] = gs.scene.box_len;
-        let _ = write!(
-            table,
-            "{},{status},\"{}\",{},{l_x},{l_y},{l_z},{},\"{}\",{},{},{}",
-            gs.id,
-            reason.replace('"', "'"),
-            gs.scene.n_particles(),
-            f.particles.phi,
-            f.fluid.profile,
-            f.seed,
-            gs.scene.rho,
-            gs.scene.stokes
-        );
-        for key in [
-            "dt",
-            "dt_limit",
-            "steps",
-            "strain_to_steady",
-            "strain_total",
-            "momentum_residual",
-            "mean_overlap",
-            "max_overlap",
-            "wall_s",
-            "code_version",
-        ] {
-            let cell = match summary.as_ref().map(|s| &s[key]) {
+        let mut row = vec![
+            gs.id.clone(),
+            status.to_string(),
+            reason,
+            gs.scene.n_particles().to_string(),
+            l_x.to_string(),
+            l_y.to_string(),
+            l_z.to_string(),
+            f.particles.phi.to_string(),
+            f.fluid.profile.clone(),
+            f.seed.to_string(),
+            gs.scene.rho.to_string(),
+            gs.scene.stokes.to_string(),
+        ];
+        for key in SUMMARY_KEYS {
+            row.push(match summary.as_ref().map(|s| &s[key]) {
                 Some(serde_json::Value::String(v)) => v.clone(),
                 Some(serde_json::Value::Number(v)) => v.to_string(),
                 _ => String::new(),
-            };
-            let _ = write!(table, ",{cell}");
+            });
         }
-        table.push('\n');
+        table.write_record(&row)?;
     }
     sim::checkpoint::write_atomic(&outputs.dataset, dataset.to_text().as_bytes())?;
-    sim::checkpoint::write_atomic(&outputs.scene_table, table.as_bytes())?;
+    sim::checkpoint::write_atomic(&outputs.scene_table, &table.into_inner()?)?;
     Ok(())
 }
 

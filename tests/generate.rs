@@ -179,6 +179,17 @@ fn a_failing_scene_is_recorded_and_does_not_stop_the_others() {
     let table = std::fs::read_to_string(dir.join("fails.scenes.csv")).unwrap();
     let failed = table.lines().find(|l| l.starts_with("fails_001,")).unwrap();
     assert!(failed.starts_with("fails_001,failed,\"blow-up"), "{failed}");
+    // Quoted as CSV: every record, the failure reason included, has the header's fields.
+    let mut reader = csv::Reader::from_reader(table.as_bytes());
+    let columns = reader.headers().unwrap().len();
+    let records: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    assert_eq!(records.len(), 2);
+    assert!(records.iter().all(|r| r.len() == columns));
+    assert!(
+        records[1][2].starts_with("blow-up at step"),
+        "{:?}",
+        &records[1]
+    );
     // A re-run does not retry it (the failure is deterministic) and keeps the dataset.
     let again = generate("tests/grids/one_fails.toml", &out, &[]);
     assert!(

@@ -381,7 +381,7 @@ impl Scene {
         }
         let profile = FlowProfile::new(&file.fluid.profile, b.l_y)?;
         let gdot_max = profile.max_abs_shear_rate();
-        if !(gdot_max > 0.0) {
+        if gdot_max == 0.0 {
             return Err(SimError::field(
                 "fluid.profile",
                 format!(

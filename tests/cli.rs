@@ -14,6 +14,15 @@ fn suspflow(args: &[&str]) -> Output {
         .expect("runs suspflow")
 }
 
+/// Fails the test with the command's standard error unless it succeeded.
+fn assert_ok(out: &Output) {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 fn scenes_in(dir: &Path) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
         .unwrap()
@@ -153,11 +162,7 @@ fn bench_refuses_bad_options_naming_them() {
         "--warmup",
         "0",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_ok(&out);
 }
 
 /// Parses a CSV into its header and rows of fields.
@@ -187,11 +192,7 @@ fn golden_run_matches_and_writes_every_output() {
         "--snapshot",
         "4",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_ok(&out);
     assert!(
         String::from_utf8_lossy(&out.stdout).contains("profile.csv"),
         "must say where the profile went"
@@ -263,11 +264,7 @@ fn bench_prints_json_records() {
         "0",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_ok(&out);
     let records: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let r = &records[0];
     assert_eq!(r["threads"], 1);
@@ -346,11 +343,7 @@ fn simulate_keeps_earlier_runs_and_resume_appends_frames() {
         "10",
         "--resume",
     ]);
-    assert!(
-        resumed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&resumed.stderr)
-    );
+    assert_ok(&resumed);
     let after = std::fs::read_to_string(out.join("frames.xyz")).unwrap();
     assert!(
         after.starts_with(&before),
@@ -373,11 +366,7 @@ fn simulate_keeps_earlier_runs_and_resume_appends_frames() {
         out_arg,
         "--force",
     ]);
-    assert!(
-        forced.status.success(),
-        "{}",
-        String::from_utf8_lossy(&forced.stderr)
-    );
+    assert_ok(&forced);
 
     // An --out that is a file is named as such.
     let file = dir.join("afile");

@@ -83,12 +83,9 @@ fn tiny_grid_gives_one_row_per_bin_per_scene_with_provenance() {
     );
 }
 
-/// Starts generate, waits until a scene has written a checkpoint, then stops it with
-/// `signal`; the re-run must finish with exactly the uninterrupted dataset.
-fn interrupted_then_resumed(name: &str, signal: &str) {
-    let dir = temp_dir(name);
-    let out = dir.join("tiny.csv");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+/// Starts `generate` of the tiny grid into `out` in the background, output discarded.
+fn spawn_tiny_generate(out: &Path) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_suspflow"))
         .args([
             "generate",
             "tests/grids/tiny.toml",
@@ -99,7 +96,15 @@ fn interrupted_then_resumed(name: &str, signal: &str) {
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+/// Starts generate, waits until a scene has written a checkpoint, then stops it with
+/// `signal`; the re-run must finish with exactly the uninterrupted dataset.
+fn interrupted_then_resumed(name: &str, signal: &str) {
+    let dir = temp_dir(name);
+    let out = dir.join("tiny.csv");
+    let mut child = spawn_tiny_generate(&out);
     let work = dir.join("tiny.csv.work");
     let started = Instant::now();
     let has_checkpoint = || {
@@ -377,18 +382,7 @@ fn generate_keeps_a_dataset_it_did_not_write_unless_forced() {
 fn a_second_generate_on_the_same_output_is_refused_naming_the_first() {
     let dir = temp_dir("lock");
     let out = dir.join("tiny.csv");
-    let mut first = Command::new(env!("CARGO_BIN_EXE_suspflow"))
-        .args([
-            "generate",
-            "tests/grids/tiny.toml",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .current_dir(root())
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut first = spawn_tiny_generate(&out);
     let lock = dir.join("tiny.csv.work/generate.lock");
     let started = Instant::now();
     while std::fs::read_to_string(&lock)

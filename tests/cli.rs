@@ -283,11 +283,11 @@ fn frames_in(path: &Path) -> usize {
 fn simulate_keeps_earlier_runs_and_resume_appends_frames() {
     let dir = temp_dir("overwrite");
     std::fs::create_dir_all(&dir).unwrap();
-    // The tiny scene with 3000 averaged snapshots: long enough to interrupt (4 windows of
-    // 10 snapshots, then 3000).
+    // The tiny scene with 200 averaged snapshots: long enough to interrupt (4 windows of
+    // 10 snapshots, then 200).
     let scene = dir.join("long.toml");
     let tiny = std::fs::read_to_string(root().join("tests/scenes/good/tiny.toml")).unwrap();
-    std::fs::write(&scene, tiny.replace("snapshots = 40", "snapshots = 3000")).unwrap();
+    std::fs::write(&scene, tiny.replace("snapshots = 40", "snapshots = 200")).unwrap();
     let out = dir.join("run");
     let (scene_arg, out_arg) = (scene.to_str().unwrap(), out.to_str().unwrap());
     let mut child = Command::new(env!("CARGO_BIN_EXE_suspflow"))
@@ -342,6 +342,8 @@ fn simulate_keeps_earlier_runs_and_resume_appends_frames() {
         "--snapshot",
         "10",
         "--resume",
+        "--threads",
+        "1",
     ]);
     assert_ok(&resumed);
     let after = std::fs::read_to_string(out.join("frames.xyz")).unwrap();
@@ -349,7 +351,7 @@ fn simulate_keeps_earlier_runs_and_resume_appends_frames() {
         after.starts_with(&before),
         "frames before the interrupt were lost"
     );
-    assert_eq!(frames_in(&out.join("frames.xyz")), (40 + 3000) / 10);
+    assert_eq!(frames_in(&out.join("frames.xyz")), (40 + 200) / 10);
 
     // A finished run is not overwritten either, unless with --force.
     std::fs::remove_file(out.join("checkpoint.json")).ok();

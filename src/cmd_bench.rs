@@ -16,14 +16,14 @@ pub struct Args {
     /// Thread counts (comma separated; 0 = all cores).
     #[arg(long, value_delimiter = ',', default_values_t = [1usize, 0])]
     threads: Vec<usize>,
-    /// Timed steps.
-    #[arg(long, default_value_t = 10000)]
+    /// Timed steps (at least 1).
+    #[arg(long, default_value_t = 10000, value_parser = clap::value_parser!(u64).range(1..))]
     steps: u64,
     /// Untimed warm-up steps.
     #[arg(long, default_value_t = 2000)]
     warmup: u64,
-    /// Verlet-list skin (units a); the scene default when absent.
-    #[arg(long)]
+    /// Verlet-list skin (units a, finite and >= 0); the scene default when absent.
+    #[arg(long, value_parser = parse_skin)]
     skin: Option<f64>,
     /// Switch lubrication off (contact + drag only).
     #[arg(long)]
@@ -45,6 +45,41 @@ struct Record {
     contacts_per_particle: f64,
 }
 
+fn parse_skin(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(skin) if skin.is_finite() && skin >= 0.0 => Ok(skin),
+        _ => Err(format!("`{text}` is not a finite number >= 0 (units a)")),
+    }
+}
+
+/// [`scene`] for `--n n`; when `n` is too small for a valid box, an error about `--n` with
+/// the smallest `n` that works (found by bisection on the scene's own validation).
+fn bench_scene(n: usize, lubrication: bool, skin: Option<f64>) -> anyhow::Result<Scene> {
+    scene(n, lubrication, skin).or_else(|_| {
+        let valid = |m: usize| scene(m, lubrication, skin).is_ok();
+        let mut hi = n.max(2);
+        while !valid(hi) {
+            if hi > 1 << 24 {
+                anyhow::bail!("no bench box is valid with --skin {skin:?}: the skin is too large");
+            }
+            hi *= 2;
+        }
+        let mut lo = n;
+        while lo + 1 < hi {
+            let mid = lo + (hi - lo) / 2;
+            if valid(mid) {
+                hi = mid
+            } else {
+                lo = mid
+            }
+        }
+        anyhow::bail!(
+            "--n {n}: too few particles for the bench box (its width must reach twice the \
+             interaction range plus skin); use --n {hi} or more"
+        )
+    })
+}
+
 /// The peer's scene at N particles: L_x = L_z = sqrt(V_particles / (phi L_y)).
 fn scene(n: usize, lubrication: bool, skin: Option<f64>) -> anyhow::Result<Scene> {
     let (phi, l_y) = (0.54, 50.0);
@@ -61,7 +96,7 @@ fn scene(n: usize, lubrication: bool, skin: Option<f64>) -> anyhow::Result<Scene
 
 fn measure(n: usize, threads: usize, args: &Args) -> anyhow::Result<Record> {
     let lubrication = !args.no_lubrication;
-    let scene = scene(n, lubrication, args.skin)?;
+    let scene = bench_scene(n, lubrication, args.skin)?;
     let particles = initial_particles(&scene)?;
     crate::with_threads(threads, || -> anyhow::Result<Record> {
         let mut sim = Simulation::new(&scene, particles)?;

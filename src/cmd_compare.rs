@@ -4,6 +4,7 @@
 //! standard errors taken at face value) and the relative L2 difference `||a - b|| / ||b||`.
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
+use surrogate::{excerpt, GROUP_COLUMN};
 
 /// Observables compared by default.
 const DEFAULT_COLUMNS: [&str; 9] = [
@@ -12,7 +13,8 @@ const DEFAULT_COLUMNS: [&str; 9] = [
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// First profile table (`profile.csv` of `simulate`, or a one-scene dataset).
+    /// First profile table (`profile.csv` of `simulate`, or a one-scene dataset; a file of
+    /// several scenes is refused).
     a: PathBuf,
     /// Second profile table, same bins.
     b: PathBuf,
@@ -28,9 +30,12 @@ struct Table {
 }
 
 impl Table {
+    /// Reads `path` (a leading UTF-8 byte-order mark is dropped); refuses a file holding
+    /// more than one scene.
     fn read(path: &Path) -> anyhow::Result<Table> {
+        let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
         let mut reader =
-            csv::Reader::from_path(path).with_context(|| format!("reading {}", path.display()))?;
+            csv::Reader::from_reader(bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes));
         let names = reader
             .headers()
             .with_context(|| format!("reading {}", path.display()))?
@@ -42,10 +47,37 @@ impl Table {
             .map(|r| r.map(|r| r.iter().map(String::from).collect()))
             .collect::<Result<Vec<Vec<String>>, _>>()
             .with_context(|| format!("reading {}", path.display()))?;
-        Ok(Table { names, rows })
+        let table = Table { names, rows };
+        table.one_scene(path)?;
+        Ok(table)
     }
 
-    /// The column `name` (empty cells are NaN: undefined in that bin).
+    /// Fails if the table's `scene_id` column names more than one scene: their bins would
+    /// be compared as one long profile.
+    fn one_scene(&self, path: &Path) -> anyhow::Result<()> {
+        let Some(c) = self.names.iter().position(|n| n == GROUP_COLUMN) else {
+            return Ok(());
+        };
+        let mut ids: Vec<&str> = self
+            .rows
+            .iter()
+            .filter_map(|r| r.get(c))
+            .map(String::as_str)
+            .collect();
+        ids.dedup();
+        if ids.len() > 1 {
+            bail!(
+                "{} holds {} scenes ({}, ...); compare takes one scene per file (its profile.csv)",
+                path.display(),
+                ids.len(),
+                ids[..2].join(", ")
+            );
+        }
+        Ok(())
+    }
+
+    /// The column `name` (empty cells are NaN: undefined in that bin); a cell that is not a
+    /// finite number, or a negative standard error (`*_se`), is an error naming row and column.
     fn column(&self, name: &str, path: &Path) -> anyhow::Result<Vec<f64>> {
         let c = self
             .names
@@ -57,16 +89,24 @@ impl Table {
             .enumerate()
             .map(|(k, r)| {
                 let cell = r.get(c).map(String::as_str).unwrap_or("");
+                let fail = |what: &str| {
+                    anyhow::anyhow!(
+                        "{} row {}, column `{name}`: `{}` {what}",
+                        path.display(),
+                        k + 1,
+                        excerpt(cell)
+                    )
+                };
                 if cell.is_empty() {
-                    Ok(f64::NAN)
-                } else {
-                    cell.parse().with_context(|| {
-                        format!(
-                            "{} row {}, column `{name}`: `{cell}` is not a number",
-                            path.display(),
-                            k + 1
-                        )
-                    })
+                    return Ok(f64::NAN);
+                }
+                match cell.parse::<f64>() {
+                    Ok(v) if !v.is_finite() => Err(fail("is not a finite number")),
+                    Ok(v) if v < 0.0 && name.ends_with("_se") => {
+                        Err(fail("is negative; a standard error cannot be"))
+                    }
+                    Ok(v) => Ok(v),
+                    Err(_) => Err(fail("is not a number")),
                 }
             })
             .collect()

@@ -8,7 +8,13 @@
 //! the same command skips finished scenes and resumes the others from their checkpoints.
 //! After each scene the dataset is rewritten atomically with the finished scenes in grid
 //! order, so it is always complete and the same as an uninterrupted run's.
+//!
+//! An existing `<FILE>` (or scene table) is replaced only if this grid wrote it (its work
+//! directory holds one of the grid's scenes) or with `--force`; a lock in the work
+//! directory keeps a second run on the same output out.
 use crate::dataset_file::DatasetFile;
+use crate::file_lock::FileLock;
+use crate::output_guard;
 use crate::scene_work::{SceneStatus, SceneWork};
 use anyhow::{bail, Context};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
@@ -16,7 +22,6 @@ use sim::grid::{Grid, GridScene};
 use sim::run::{Phase, RunOptions};
 use sim::timestep::TimeStep;
 use sim::SimError;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
@@ -56,6 +61,9 @@ pub struct Args {
     /// List the scenes with their size, time step and cost, and run nothing.
     #[arg(long)]
     check: bool,
+    /// Replace an existing dataset or scene table that this grid did not write.
+    #[arg(long)]
+    force: bool,
 }
 
 fn parse_shard(s: &str) -> Result<(usize, usize), String> {
@@ -116,6 +124,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return Ok(());
     }
     let outputs = Outputs::new(&args);
+    guard_outputs(&outputs, &scenes, args.force)?;
     if let Some(parent) = outputs
         .dataset
         .parent()
@@ -124,6 +133,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("creating {}", parent.display()))?;
     }
+    std::fs::create_dir_all(&outputs.work)
+        .with_context(|| format!("creating {}", outputs.work.display()))?;
+    let _lock = FileLock::acquire(
+        &outputs.work.join("generate.lock"),
+        &outputs.dataset.display().to_string(),
+    )?;
     let mut todo = Vec::new();
     for gs in &scenes {
         let work = SceneWork::new(&outputs.work, &gs.id);
@@ -214,6 +229,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     report(&outputs, &scenes)
 }
 
+/// Refuses to replace a dataset or scene table that this grid did not write: one counts as
+/// the grid's own when the work directory holds a folder of one of its scenes.
+fn guard_outputs(outputs: &Outputs, scenes: &[&GridScene], force: bool) -> anyhow::Result<()> {
+    output_guard::out_file(&outputs.dataset)?;
+    let ours = scenes.iter().any(|gs| {
+        SceneWork::new(&outputs.work, &gs.id)
+            .dir
+            .join("scene.toml")
+            .exists()
+    });
+    if !ours {
+        let what = format!(
+            "not written by this grid: {} holds none of its scenes",
+            outputs.work.display()
+        );
+        for file in [&outputs.dataset, &outputs.scene_table] {
+            output_guard::refuse_unless_force(file, force, &what, "choose another --out")?;
+        }
+    }
+    Ok(())
+}
+
 /// Runs one scene into its work folder; a failure of the scene itself is recorded there,
 /// and only problems of the work directory are returned as errors.
 fn run_scene(
@@ -286,15 +323,44 @@ fn run_scene(
     Ok(())
 }
 
+/// Columns of the scene table copied from each finished scene's summary.json.
+const SUMMARY_KEYS: [&str; 10] = [
+    "dt",
+    "dt_limit",
+    "steps",
+    "strain_to_steady",
+    "strain_total",
+    "momentum_residual",
+    "mean_overlap",
+    "max_overlap",
+    "wall_s",
+    "code_version",
+];
+
 /// Rewrites the dataset (finished scenes in grid order) and the scene table, atomically.
 fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()> {
     let mut dataset = DatasetFile {
         header: sim::output::profile_header(),
         scenes: Default::default(),
     };
-    let mut table = String::from(
-        "scene_id,status,reason,n_particles,L_x,L_y,L_z,phi,profile,seed,rho,stokes,dt,dt_limit,steps,\
-         strain_to_steady,strain_total,momentum_residual,mean_overlap,max_overlap,wall_s,code_version\n");
+    // Written through the csv crate: a failure reason holds commas, quotes and newlines.
+    let mut table = csv::Writer::from_writer(Vec::new());
+    let mut header = vec![
+        "scene_id",
+        "status",
+        "reason",
+        "n_particles",
+        "L_x",
+        "L_y",
+        "L_z",
+        "phi",
+        "profile",
+        "seed",
+        "rho",
+        "stokes",
+    ];
+    header.extend(SUMMARY_KEYS);
+    table.write_record(&header)?;
     for gs in scenes {
         let work = SceneWork::new(&outputs.work, &gs.id);
         let (status, reason, summary) = match work.status()? {
@@ -308,41 +374,31 @@ fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()>
         };
         let f = &gs.scene.file;
         let [l_x, l_y, l_z] = gs.scene.box_len;
-        let _ = write!(
-            table,
-            "{},{status},\"{}\",{},{l_x},{l_y},{l_z},{},\"{}\",{},{},{}",
-            gs.id,
-            reason.replace('"', "'"),
-            gs.scene.n_particles(),
-            f.particles.phi,
-            f.fluid.profile,
-            f.seed,
-            gs.scene.rho,
-            gs.scene.stokes
-        );
-        for key in [
-            "dt",
-            "dt_limit",
-            "steps",
-            "strain_to_steady",
-            "strain_total",
-            "momentum_residual",
-            "mean_overlap",
-            "max_overlap",
-            "wall_s",
-            "code_version",
-        ] {
-            let cell = match summary.as_ref().map(|s| &s[key]) {
+        let mut row = vec![
+            gs.id.clone(),
+            status.to_string(),
+            reason,
+            gs.scene.n_particles().to_string(),
+            l_x.to_string(),
+            l_y.to_string(),
+            l_z.to_string(),
+            f.particles.phi.to_string(),
+            f.fluid.profile.clone(),
+            f.seed.to_string(),
+            gs.scene.rho.to_string(),
+            gs.scene.stokes.to_string(),
+        ];
+        for key in SUMMARY_KEYS {
+            row.push(match summary.as_ref().map(|s| &s[key]) {
                 Some(serde_json::Value::String(v)) => v.clone(),
                 Some(serde_json::Value::Number(v)) => v.to_string(),
                 _ => String::new(),
-            };
-            let _ = write!(table, ",{cell}");
+            });
         }
-        table.push('\n');
+        table.write_record(&row)?;
     }
     sim::checkpoint::write_atomic(&outputs.dataset, dataset.to_text().as_bytes())?;
-    sim::checkpoint::write_atomic(&outputs.scene_table, table.as_bytes())?;
+    sim::checkpoint::write_atomic(&outputs.scene_table, &table.into_inner()?)?;
     Ok(())
 }
 

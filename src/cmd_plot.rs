@@ -4,7 +4,7 @@
 use crate::plot::{profile_panels, Panel, Series};
 use anyhow::Context;
 use std::path::PathBuf;
-use surrogate::{Dataset, GROUP_COLUMN};
+use surrogate::Dataset;
 
 /// Observables drawn, one panel each.
 const QUANTITIES: [&str; 6] = ["u", "phi_loc", "mu", "J", "Theta", "Delta_v"];
@@ -20,15 +20,15 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let data = Dataset::read_csv(&args.data)?;
+    crate::output_guard::out_dir(&args.out)?;
+    let ids = data.group_keys()?;
+    let scenes = scene_order(ids, &data)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    let ids = data.text(GROUP_COLUMN)?;
     let (profile, l_y, phi) = (data.text("profile")?, data.text("L_y")?, data.text("phi")?);
     let (y, u_inf) = (data.column("y")?, data.column("u_inf")?);
-    let mut scenes: Vec<&String> = ids.iter().collect();
-    scenes.dedup();
     for id in scenes {
-        let rows: Vec<usize> = (0..data.n_rows()).filter(|&r| &ids[r] == id).collect();
+        let rows: Vec<usize> = (0..data.n_rows()).filter(|&r| ids[r] == id).collect();
         let mut panels = Vec::new();
         for q in QUANTITIES {
             let (v, se) = (data.column(q)?, data.column(&format!("{q}_se"))?);
@@ -59,4 +59,33 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         println!("{}", path.display());
     }
     Ok(())
+}
+
+/// The scenes of `ids` (one per row) in file order. Each id names an SVG file, so it must
+/// follow the safe-name rule; a scene whose rows are not contiguous (two runs of one id, or
+/// files concatenated) is refused rather than drawn into one SVG.
+fn scene_order<'a>(ids: &'a [String], data: &Dataset) -> anyhow::Result<Vec<&'a str>> {
+    let mut scenes: Vec<&str> = Vec::new();
+    for (row, id) in ids.iter().enumerate() {
+        if scenes.last() == Some(&id.as_str()) {
+            continue;
+        }
+        sim::scene_name::check(id).map_err(|m| {
+            anyhow::anyhow!(
+                "{}: data row {}, column `scene_id`: {m}",
+                data.source_name(),
+                row + 1
+            )
+        })?;
+        if scenes.contains(&id.as_str()) {
+            anyhow::bail!(
+                "{}: data row {}: scene `{id}` appears again after other scenes; \
+                 its rows must be together (one run per scene id)",
+                data.source_name(),
+                row + 1
+            );
+        }
+        scenes.push(id);
+    }
+    Ok(scenes)
 }

@@ -6,10 +6,9 @@
 //! whether it lies inside, `domain_distance` how far it is from the nearest training rows in
 //! units of the domain's threshold (<= 1 is near enough), and the rows outside are counted.
 use anyhow::Context;
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
-use surrogate::{Dataset, Predictor};
+use surrogate::{Dataset, DomainCheck, Predictor};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -38,29 +37,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let predicted = model.predict(&dataset)?;
     let domain = model.check_domain(&dataset)?;
     let elapsed = started.elapsed();
-    let meta = model.meta();
-    let mut out = String::new();
-    let mut header: Vec<String> = meta.features.clone();
-    header.extend(meta.outputs.iter().map(|o| format!("{o}_pred")));
-    header.extend(["in_domain".to_owned(), "domain_distance".to_owned()]);
-    let _ = writeln!(out, "{}", header.join(","));
-    let names: Vec<&str> = meta.features.iter().map(String::as_str).collect();
-    let features = dataset.matrix(&names)?;
-    for ((row, pred), check) in features
-        .rows()
-        .into_iter()
-        .zip(predicted.rows())
-        .zip(&domain)
-    {
-        let mut cells: Vec<String> = row
-            .iter()
-            .chain(pred.iter())
-            .map(|x| format!("{x:e}"))
-            .collect();
-        cells.push(check.inside().to_string());
-        cells.push(format!("{:e}", check.distance));
-        let _ = writeln!(out, "{}", cells.join(","));
-    }
+    let predicted: Vec<Vec<f64>> = predicted.rows().into_iter().map(|r| r.to_vec()).collect();
+    let out = with_predictions(&dataset, &model.meta().outputs, &predicted, &domain)?;
     match &args.out {
         Some(path) => {
             std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))?
@@ -85,4 +63,36 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// The input table, every column as read, followed by one column `<output>_pred` per output
+/// and the training-domain columns `in_domain`, `domain_distance` (CSV quoted where a cell
+/// needs it).
+fn with_predictions(
+    dataset: &Dataset,
+    outputs: &[String],
+    predicted: &[Vec<f64>],
+    domain: &[DomainCheck],
+) -> anyhow::Result<String> {
+    let names = dataset.column_names();
+    let columns = names
+        .iter()
+        .map(|n| dataset.text(n))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut writer = csv::Writer::from_writer(Vec::new());
+    let header = names
+        .iter()
+        .cloned()
+        .chain(outputs.iter().map(|o| format!("{o}_pred")))
+        .chain(["in_domain".to_owned(), "domain_distance".to_owned()]);
+    writer.write_record(header)?;
+    for (row, (pred, check)) in predicted.iter().zip(domain).enumerate() {
+        let cells = columns
+            .iter()
+            .map(|c| c[row].clone())
+            .chain(pred.iter().map(|x| format!("{x:e}")))
+            .chain([check.inside().to_string(), format!("{:e}", check.distance)]);
+        writer.write_record(cells)?;
+    }
+    Ok(String::from_utf8(writer.into_inner()?)?)
 }

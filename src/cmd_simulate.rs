@@ -13,12 +13,15 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 pub struct Args {
     /// Scene file (TOML, see README).
     scene: PathBuf,
-    /// Output directory: profile.csv, summary.json, checkpoint.json.
-    #[arg(long)]
-    out: PathBuf,
+    /// Output directory: profile.csv, summary.json, checkpoint.json (not needed with --check).
+    #[arg(long, required_unless_present = "check")]
+    out: Option<PathBuf>,
     /// Continue from DIR/checkpoint.json if it exists.
     #[arg(long)]
     resume: bool,
+    /// Start over in a DIR that holds an earlier run (its checkpoint and results are replaced).
+    #[arg(long, conflicts_with = "resume")]
+    force: bool,
     /// Refuse scenes that only warrant a warning (Stokes number >= 0.1).
     #[arg(long)]
     strict: bool,
@@ -29,9 +32,9 @@ pub struct Args {
     /// step and what limits it) without running.
     #[arg(long)]
     check: bool,
-    /// Write an extended-XYZ frame every N snapshots to DIR/frames.xyz.
-    #[arg(long, value_name = "N")]
-    snapshot: Option<usize>,
+    /// Write an extended-XYZ frame every N snapshots to DIR/frames.xyz (appended to on --resume).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    snapshot: Option<u64>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -42,32 +45,57 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if args.check {
         return print_check(&scene);
     }
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
+    let out = args
+        .out
+        .as_ref()
+        .expect("clap requires --out without --check");
+    crate::output_guard::out_dir(out)?;
+    let checkpoint = out.join("checkpoint.json");
+    let resuming = args.resume && checkpoint.exists();
+    if !args.resume {
+        for (file, what) in [
+            (
+                &checkpoint,
+                "the checkpoint of an unfinished run; --resume continues it",
+            ),
+            (&out.join("profile.csv"), "the result of an earlier run"),
+        ] {
+            crate::output_guard::refuse_unless_force(
+                file,
+                args.force,
+                what,
+                "choose another --out",
+            )?;
+        }
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
         .context("installing the Ctrl-C handler")?;
     let opts = RunOptions {
-        checkpoint: Some(args.out.join("checkpoint.json")),
+        checkpoint: Some(checkpoint.clone()),
         resume: args.resume,
         interrupt: Some(&INTERRUPTED),
     };
     let mut frames = match args.snapshot {
-        Some(every) if every > 0 => {
-            let path = args.out.join("frames.xyz");
-            Some((
-                every,
-                std::fs::File::create(&path)
-                    .with_context(|| format!("creating {}", path.display()))?,
-            ))
+        Some(every) => {
+            let path = out.join("frames.xyz");
+            // A resumed run continues the frames of the run it resumes.
+            let file = std::fs::OpenOptions::new()
+                .create(true)
+                .write(true)
+                .append(resuming)
+                .truncate(!resuming)
+                .open(&path)
+                .with_context(|| format!("creating {}", path.display()))?;
+            Some((every, file))
         }
-        _ => None,
+        None => None,
     };
     let bar = ProgressBar::new(1000);
     bar.set_style(ProgressStyle::with_template(
         "{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})",
     )?);
     let mut frame_error = None;
-    let mut samples = 0usize;
     let outcome = crate::with_threads(args.threads, || {
         sim::run::run(&scene, &opts, &mut |p, sim| {
             match p.phase {
@@ -86,9 +114,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     ));
                 }
             }
-            samples += 1;
             if let Some((every, file)) = frames.as_mut() {
-                if samples.is_multiple_of(*every) && frame_error.is_none() {
+                if p.samples.is_multiple_of(*every) && frame_error.is_none() {
                     frame_error = sim::output::append_xyz_frame(file, sim).err();
                 }
             }
@@ -102,15 +129,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Err(SimError::Interrupted { step }) => {
             anyhow::bail!(
                 "interrupted at step {step}; state saved in {}; continue with --resume",
-                args.out.join("checkpoint.json").display()
+                checkpoint.display()
             )
         }
         other => other?,
     };
-    sim::output::write_results(&args.out, &scene, &outcome.profile, &outcome.summary)?;
+    sim::output::write_results(out, &scene, &outcome.profile, &outcome.summary)?;
     let s = &outcome.summary;
-    println!("profile: {}", args.out.join("profile.csv").display());
-    println!("summary: {}", args.out.join("summary.json").display());
+    println!("profile: {}", out.join("profile.csv").display());
+    println!("summary: {}", out.join("summary.json").display());
     println!(
         "N = {}, dt = {:.3e} ({}), steps = {}, steady at strain {:.2}, wall {:.1} s, {:.3e} particle-steps/s",
         s.n_particles, s.dt, s.dt_limit, s.steps, s.strain_to_steady, s.wall_s, s.particle_steps_per_s
@@ -144,6 +171,10 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
         scene.phi_actual
     );
     println!("bins: {} of width {}", scene.n_bins, r.bin_width);
+    println!(
+        "memory: about {} (estimate)",
+        sim::memory_estimate::describe(scene.memory_bytes)
+    );
     println!(
         "gdot_max = {:.4e}, rho = {:.4}, Stokes number = {:.3e}",
         scene.gdot_max(),

@@ -21,6 +21,9 @@ pub struct Args {
     /// Directory for `<mapping>.json`, `<mapping>.meta.json` and `<mapping>.tuning.json`.
     #[arg(long, default_value = "models")]
     out: PathBuf,
+    /// Replace models already in `--out` (the shipped `models/` among them).
+    #[arg(long)]
+    force: bool,
     /// Mappings to train (mu, theta, dv); all three when absent.
     #[arg(long = "mapping")]
     mappings: Vec<String>,
@@ -32,6 +35,16 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let dataset = Dataset::read_csv(&args.data)?;
     let mappings = Mapping::select(&args.mappings)?;
+    crate::output_guard::out_dir(&args.out)?;
+    for mapping in &mappings {
+        let trees = args.out.join(format!("{}.json", mapping.name));
+        crate::output_guard::refuse_unless_force(
+            &trees,
+            args.force,
+            &format!("a trained `{}` model", mapping.name),
+            "give another --out",
+        )?;
+    }
     let started = Instant::now();
     for mapping in mappings {
         let samples = Samples::from_dataset(&dataset, mapping)?;

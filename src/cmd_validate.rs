@@ -22,6 +22,7 @@ use surrogate::{
 
 use crate::plot::{profile_panels, Panel, Series};
 use crate::report::{describe, errors_by_output, percent, warn_skipped};
+use crate::training_overlap;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -68,6 +69,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let validation = Validation::run(&model, &data)
             .with_context(|| format!("validating model `{}`", mapping.name))?;
         warn_skipped(mapping, &validation.samples);
+        if let Some(warning) = training_overlap::warning(&model, &data, &validation.samples) {
+            eprintln!("warning: {warning}");
+        }
         checked.push(Checked {
             mapping,
             model,

@@ -7,6 +7,7 @@
 use anyhow::{bail, Context};
 use std::collections::BTreeMap;
 use std::path::Path;
+use surrogate::excerpt;
 
 /// Columns whose cells are text; every other cell is a number or empty (undefined).
 const TEXT_COLUMNS: [&str; 3] = ["scene_id", "profile", "code_version"];
@@ -27,8 +28,11 @@ impl DatasetFile {
         Self::parse(&text).with_context(|| format!("in {}", path.display()))
     }
 
-    /// Parses dataset text; see [`DatasetFile::read`].
+    /// Parses dataset text; see [`DatasetFile::read`]. A leading UTF-8 byte-order mark is
+    /// dropped; scene ids must follow the safe-name rule (`sim::scene_name`), standard
+    /// errors (`*_se`) must not be negative.
     pub fn parse(text: &str) -> anyhow::Result<DatasetFile> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         if text.is_empty() {
             bail!("the file is empty (expected a header line)");
         }
@@ -44,7 +48,12 @@ impl DatasetFile {
         let id_column = names
             .iter()
             .position(|n| n == "scene_id")
-            .with_context(|| format!("line 1: no `scene_id` column in the header `{header}`"))?;
+            .with_context(|| {
+                format!(
+                    "line 1: no `scene_id` column in the header `{}`",
+                    excerpt(&header)
+                )
+            })?;
         let numeric: Vec<bool> = names
             .iter()
             .map(|n| !TEXT_COLUMNS.contains(&n.as_str()))
@@ -59,10 +68,18 @@ impl DatasetFile {
             }
             for ((cell, name), &is_number) in cells.iter().zip(&names).zip(&numeric) {
                 if is_number && !cell.is_empty() && !cell.parse::<f64>().is_ok_and(f64::is_finite) {
-                    bail!("line {number}, column `{name}`: `{cell}` is not a finite number");
+                    bail!(
+                        "line {number}, column `{name}`: `{}` is not a finite number",
+                        excerpt(cell)
+                    );
+                }
+                if name.ends_with("_se") && cell.parse::<f64>().is_ok_and(|se| se < 0.0) {
+                    bail!("line {number}, column `{name}`: a standard error cannot be negative ({cell})");
                 }
             }
             let id = cells[id_column].clone();
+            sim::scene_name::check(&id)
+                .map_err(|m| anyhow::anyhow!("line {number}, column `scene_id`: {m}"))?;
             if last_id.as_ref() != Some(&id) && scenes.contains_key(&id) {
                 bail!("line {number}: scene `{id}` appears again after other scenes (duplicated or interleaved rows)");
             }
@@ -168,6 +185,22 @@ mod tests {
             ),
             ("profile,y\nx,1\n".to_string(), "no `scene_id`"),
             (String::new(), "empty"),
+            (
+                format!("{HEADER}\ng_0,\"s\",1,2\n,\"s\",1,2\n"),
+                "line 3, column `scene_id`: is empty",
+            ),
+            (
+                format!("{HEADER}\n../../x,\"s\",1,2\n"),
+                "line 2, column `scene_id`: `../../x` starts with '.'",
+            ),
+            (
+                "scene_id,y,mu_se\ng_0,1,-0.5\n".to_string(),
+                "line 2, column `mu_se`: a standard error cannot be negative",
+            ),
+            (
+                format!("{HEADER}\ng_0,\"s\",1,{}\n", "7".repeat(500_000) + "x"),
+                "... (500001 bytes)` is not a finite number",
+            ),
         ];
         for (text, expected) in cases {
             let err = format!(
@@ -178,6 +211,15 @@ mod tests {
             );
             assert!(err.contains(expected), "{err} should mention {expected}");
         }
+    }
+
+    #[test]
+    fn byte_order_mark_is_dropped() {
+        let plain = DatasetFile::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
+        let mut marked = DatasetFile::parse(&format!("\u{feff}{HEADER}\ng_1,\"s\",1,2\n")).unwrap();
+        assert_eq!(marked.header, HEADER);
+        marked.absorb(plain, "plain").unwrap();
+        assert_eq!(marked.rows(), 2);
     }
 
     #[test]

@@ -14,7 +14,9 @@ mod convergence;
 mod convergence_report;
 mod dataset_file;
 mod descriptor_noise;
+mod file_lock;
 mod loglog_plot;
+mod output_guard;
 mod plot;
 mod report;
 mod scene_work;
@@ -22,6 +24,7 @@ mod side_by_side;
 mod stability_map;
 mod stability_sweep;
 mod surrogate_cost;
+mod training_overlap;
 
 use clap::{Parser, Subcommand};
 

@@ -14,6 +14,15 @@ fn suspflow(args: &[&str]) -> Output {
         .expect("runs suspflow")
 }
 
+/// Fails the test with the command's standard error unless it succeeded.
+fn assert_ok(out: &Output) {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 fn scenes_in(dir: &Path) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
         .unwrap()
@@ -69,13 +78,8 @@ fn shipped_scenes_are_valid() {
     scenes.extend(scenes_in(&root().join("tests/scenes/good")));
     assert!(scenes.iter().any(|p| p.ends_with("quick.toml")));
     for scene in scenes {
-        let out = suspflow(&[
-            "simulate",
-            scene.to_str().unwrap(),
-            "--out",
-            "unused",
-            "--check",
-        ]);
+        // --check writes nothing, so it needs no --out.
+        let out = suspflow(&["simulate", scene.to_str().unwrap(), "--check"]);
         let stdout = String::from_utf8_lossy(&out.stdout);
         assert!(
             out.status.success(),
@@ -87,7 +91,78 @@ fn shipped_scenes_are_valid() {
             stdout.contains("dt = ") && stdout.contains("set by"),
             "{stdout}"
         );
+        assert!(stdout.contains("memory: about "), "{stdout}");
     }
+}
+
+/// The bad scenes are refused by --check as well as by a run.
+#[test]
+fn check_refuses_what_a_run_would_refuse() {
+    for (scene, expect) in [
+        ("profile_zero.toml", "has no shear"),
+        ("forces_all_off.toml", "all off"),
+        (
+            "box_too_large_for_memory.toml",
+            "of memory, more than this machine's",
+        ),
+    ] {
+        let path = root().join("tests/scenes/bad").join(scene);
+        let out = suspflow(&["simulate", path.to_str().unwrap(), "--check"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && stderr.contains(expect),
+            "{scene}: {stderr}"
+        );
+    }
+}
+
+#[test]
+fn bench_refuses_bad_options_naming_them() {
+    for (args, expect) in [
+        (&["--steps", "0"][..], "--steps <STEPS>"),
+        (&["--skin", "NaN"][..], "`NaN` is not a finite number >= 0"),
+        (&["--skin=-1"][..], "`-1` is not a finite number >= 0"),
+        (
+            &["--n", "0"][..],
+            "--n 0: too few particles for the bench box",
+        ),
+        (&["--n", "10"][..], "--n 10: too few particles"),
+        (&["--n", "100"][..], "--n 100: too few particles"),
+    ] {
+        let mut all = vec!["bench", "--threads", "1", "--warmup", "0"];
+        if args[0] != "--steps" {
+            all.extend(["--steps", "1"]);
+        }
+        all.extend_from_slice(args);
+        let out = suspflow(&all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} accepted");
+        assert!(stderr.contains(expect), "{args:?}: {stderr}");
+        assert!(
+            !stderr.contains("scene field"),
+            "{args:?} names an internal field: {stderr}"
+        );
+    }
+    // The smallest --n the message offers is accepted.
+    let out = suspflow(&["bench", "--n", "100", "--steps", "1", "--warmup", "0"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let smallest = stderr
+        .split("use --n ")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .unwrap_or_else(|| panic!("{stderr}"));
+    let out = suspflow(&[
+        "bench",
+        "--n",
+        smallest,
+        "--threads",
+        "1",
+        "--steps",
+        "1",
+        "--warmup",
+        "0",
+    ]);
+    assert_ok(&out);
 }
 
 /// Parses a CSV into its header and rows of fields.
@@ -117,11 +192,7 @@ fn golden_run_matches_and_writes_every_output() {
         "--snapshot",
         "4",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_ok(&out);
     assert!(
         String::from_utf8_lossy(&out.stdout).contains("profile.csv"),
         "must say where the profile went"
@@ -193,15 +264,134 @@ fn bench_prints_json_records() {
         "0",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_ok(&out);
     let records: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let r = &records[0];
     assert_eq!(r["threads"], 1);
     assert_eq!(r["lubrication"], true);
     assert!(r["n"].as_u64().unwrap().abs_diff(1000) <= 2);
     assert!(r["particle_steps_per_s"].as_f64().unwrap() > 0.0);
+}
+
+/// Number of extended-XYZ frames in `path`.
+fn frames_in(path: &Path) -> usize {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines().filter(|l| l.starts_with("Lattice=")).count()
+}
+
+#[test]
+fn simulate_keeps_earlier_runs_and_resume_appends_frames() {
+    let dir = temp_dir("overwrite");
+    std::fs::create_dir_all(&dir).unwrap();
+    // The tiny scene with 200 averaged snapshots: long enough to interrupt (4 windows of
+    // 10 snapshots, then 200).
+    let scene = dir.join("long.toml");
+    let tiny = std::fs::read_to_string(root().join("tests/scenes/good/tiny.toml")).unwrap();
+    std::fs::write(&scene, tiny.replace("snapshots = 40", "snapshots = 200")).unwrap();
+    let out = dir.join("run");
+    let (scene_arg, out_arg) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let mut child = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+        .args([
+            "simulate",
+            scene_arg,
+            "--out",
+            out_arg,
+            "--snapshot",
+            "10",
+            "--threads",
+            "1",
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    while !out.join("frames.xyz").exists() || frames_in(&out.join("frames.xyz")) < 3 {
+        assert!(started.elapsed().as_secs() < 60, "no frames written");
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "finished before the interrupt"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(!child.wait().unwrap().success());
+    assert!(out.join("checkpoint.json").exists());
+    let before = std::fs::read_to_string(out.join("frames.xyz")).unwrap();
+
+    // Without --resume or --force the checkpoint is not overwritten.
+    let again = suspflow(&["simulate", scene_arg, "--out", out_arg]);
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        !again.status.success()
+            && stderr.contains("checkpoint.json already exists")
+            && stderr.contains("--resume continues it")
+            && stderr.contains("--force"),
+        "{stderr}"
+    );
+
+    // --resume appends the remaining frames to those written before the interrupt.
+    let resumed = suspflow(&[
+        "simulate",
+        scene_arg,
+        "--out",
+        out_arg,
+        "--snapshot",
+        "10",
+        "--resume",
+        "--threads",
+        "1",
+    ]);
+    assert_ok(&resumed);
+    let after = std::fs::read_to_string(out.join("frames.xyz")).unwrap();
+    assert!(
+        after.starts_with(&before),
+        "frames before the interrupt were lost"
+    );
+    assert_eq!(frames_in(&out.join("frames.xyz")), (40 + 200) / 10);
+
+    // A finished run is not overwritten either, unless with --force.
+    std::fs::remove_file(out.join("checkpoint.json")).ok();
+    let again = suspflow(&["simulate", scene_arg, "--out", out_arg]);
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        stderr.contains("profile.csv already exists (the result of an earlier run)"),
+        "{stderr}"
+    );
+    let forced = suspflow(&[
+        "simulate",
+        "tests/scenes/good/tiny.toml",
+        "--out",
+        out_arg,
+        "--force",
+    ]);
+    assert_ok(&forced);
+
+    // An --out that is a file is named as such.
+    let file = dir.join("afile");
+    std::fs::write(&file, "x").unwrap();
+    let o = suspflow(&[
+        "simulate",
+        "tests/scenes/good/tiny.toml",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("is an existing file; give a directory"),
+        "{stderr}"
+    );
+    // --snapshot 0 would never write a frame.
+    let o = suspflow(&[
+        "simulate",
+        "tests/scenes/good/tiny.toml",
+        "--check",
+        "--snapshot",
+        "0",
+    ]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--snapshot <N>"));
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -83,12 +83,9 @@ fn tiny_grid_gives_one_row_per_bin_per_scene_with_provenance() {
     );
 }
 
-/// Starts generate, waits until a scene has written a checkpoint, then stops it with
-/// `signal`; the re-run must finish with exactly the uninterrupted dataset.
-fn interrupted_then_resumed(name: &str, signal: &str) {
-    let dir = temp_dir(name);
-    let out = dir.join("tiny.csv");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+/// Starts `generate` of the tiny grid into `out` in the background, output discarded.
+fn spawn_tiny_generate(out: &Path) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_suspflow"))
         .args([
             "generate",
             "tests/grids/tiny.toml",
@@ -99,7 +96,15 @@ fn interrupted_then_resumed(name: &str, signal: &str) {
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+/// Starts generate, waits until a scene has written a checkpoint, then stops it with
+/// `signal`; the re-run must finish with exactly the uninterrupted dataset.
+fn interrupted_then_resumed(name: &str, signal: &str) {
+    let dir = temp_dir(name);
+    let out = dir.join("tiny.csv");
+    let mut child = spawn_tiny_generate(&out);
     let work = dir.join("tiny.csv.work");
     let started = Instant::now();
     let has_checkpoint = || {
@@ -179,6 +184,17 @@ fn a_failing_scene_is_recorded_and_does_not_stop_the_others() {
     let table = std::fs::read_to_string(dir.join("fails.scenes.csv")).unwrap();
     let failed = table.lines().find(|l| l.starts_with("fails_001,")).unwrap();
     assert!(failed.starts_with("fails_001,failed,\"blow-up"), "{failed}");
+    // Quoted as CSV: every record, the failure reason included, has the header's fields.
+    let mut reader = csv::Reader::from_reader(table.as_bytes());
+    let columns = reader.headers().unwrap().len();
+    let records: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
+    assert_eq!(records.len(), 2);
+    assert!(records.iter().all(|r| r.len() == columns));
+    assert!(
+        records[1][2].starts_with("blow-up at step"),
+        "{:?}",
+        &records[1]
+    );
     // A re-run does not retry it (the failure is deterministic) and keeps the dataset.
     let again = generate("tests/grids/one_fails.toml", &out, &[]);
     assert!(
@@ -325,4 +341,194 @@ fn compare_finds_a_profile_agrees_with_itself_and_not_with_another_scene() {
     assert_eq!(z2(&a, &a), 0.0);
     // phi = 0.45 against phi = 0.5: far beyond the noise.
     assert!(z2(&a, &b) > 10.0, "{}", z2(&a, &b));
+}
+
+#[test]
+fn generate_keeps_a_dataset_it_did_not_write_unless_forced() {
+    let dir = temp_dir("foreign");
+    let out = dir.join("mine.csv");
+    std::fs::write(&out, "precious,data\n1,2\n").unwrap();
+    let o = generate("tests/grids/tiny.toml", &out, &["--shard", "0/4"]);
+    let err = stderr(&o);
+    assert!(
+        !o.status.success()
+            && err.contains("mine.csv already exists (not written by this grid")
+            && err.contains("--force"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        "precious,data\n1,2\n"
+    );
+    let o = generate(
+        "tests/grids/tiny.toml",
+        &out,
+        &["--shard", "0/4", "--force"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Once the grid has written it, re-running needs no --force.
+    let o = generate("tests/grids/tiny.toml", &out, &["--shard", "0/4"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A directory as --out is named as such.
+    let o = generate("tests/grids/tiny.toml", &dir, &[]);
+    assert!(
+        stderr(&o).contains("is a directory; give a file name"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn a_second_generate_on_the_same_output_is_refused_naming_the_first() {
+    let dir = temp_dir("lock");
+    let out = dir.join("tiny.csv");
+    let mut first = spawn_tiny_generate(&out);
+    let lock = dir.join("tiny.csv.work/generate.lock");
+    let started = Instant::now();
+    while std::fs::read_to_string(&lock)
+        .unwrap_or_default()
+        .is_empty()
+    {
+        assert!(started.elapsed() < Duration::from_secs(60), "no lock taken");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let second = generate("tests/grids/tiny.toml", &out, &[]);
+    Command::new("kill")
+        .args(["-INT", &first.id().to_string()])
+        .status()
+        .unwrap();
+    let finished_first = first.wait().unwrap().success();
+    let err = stderr(&second);
+    assert!(
+        finished_first
+            || (!second.status.success()
+                && err.contains("is in use by another `suspflow generate`")
+                && err.contains(&format!("process {}", first.id()))),
+        "{err}"
+    );
+    assert!(!err.contains("No such file"), "{err}");
+}
+
+#[test]
+fn plot_refuses_scattered_or_unsafe_scene_ids() {
+    let dir = temp_dir("plot-bad");
+    let lines: Vec<&str> = whole_tiny().lines().collect();
+    let plot = |name: &str, text: String| {
+        let data = dir.join(name);
+        std::fs::write(&data, text).unwrap();
+        let o = suspflow(&[
+            "plot",
+            data.to_str().unwrap(),
+            "--out",
+            dir.join("plots").to_str().unwrap(),
+        ]);
+        assert!(!o.status.success(), "{name} accepted");
+        stderr(&o)
+    };
+    // Scene tiny_000 again after tiny_001: one SVG would overwrite the other.
+    let scattered = format!(
+        "{}\n{}\n{}\n{}\n",
+        lines[0],
+        lines[1..7].join("\n"),
+        lines[7..13].join("\n"),
+        lines[1..7].join("\n")
+    );
+    let err = plot("scattered.csv", scattered);
+    assert!(
+        err.contains("data row 13: scene `tiny_000` appears again after other scenes"),
+        "{err}"
+    );
+    let escaping =
+        format!("{}\n{}\n", lines[0], lines[1..7].join("\n")).replace("tiny_000", "../../x");
+    let err = plot("escaping.csv", escaping);
+    assert!(err.contains("`../../x` starts with '.'"), "{err}");
+    let empty = format!("{}\n{}\n", lines[0], lines[1..7].join("\n")).replace("tiny_000", "");
+    let err = plot("empty.csv", empty);
+    assert!(
+        err.contains("data row 1, column `scene_id` is empty"),
+        "{err}"
+    );
+    assert!(!dir.join("x.svg").exists() && !dir.join("plots/.svg").exists());
+    // A byte-order mark before the header is read as nothing.
+    let marked = dir.join("marked.csv");
+    std::fs::write(
+        &marked,
+        format!("\u{feff}{}\n{}\n", lines[0], lines[1..7].join("\n")),
+    )
+    .unwrap();
+    let o = suspflow(&[
+        "plot",
+        marked.to_str().unwrap(),
+        "--out",
+        dir.join("plots").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("plots/tiny_000.svg").exists());
+}
+
+#[test]
+fn compare_refuses_several_scenes_bad_cells_and_negative_errors() {
+    let dir = temp_dir("compare-bad");
+    let lines: Vec<&str> = whole_tiny().lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let column = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let one = dir.join("one.csv");
+    std::fs::write(&one, format!("{}\n{}\n", lines[0], lines[1..7].join("\n"))).unwrap();
+    let compare = |name: &str, text: String| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let o = suspflow(&["compare", path.to_str().unwrap(), one.to_str().unwrap()]);
+        assert!(!o.status.success(), "{name} accepted");
+        stderr(&o)
+    };
+    let err = compare("all.csv", whole_tiny().clone());
+    assert!(
+        err.contains("holds 4 scenes (tiny_000, tiny_001, ...)"),
+        "{err}"
+    );
+    // One cell of scene tiny_000 replaced: row 3 (data rows from 1).
+    let with_cell = |name: &str, value: &str| {
+        let mut rows: Vec<String> = lines[1..7].iter().map(|l| l.to_string()).collect();
+        let mut cells: Vec<&str> = rows[2].split(',').collect();
+        cells[column(name)] = value;
+        rows[2] = cells.join(",");
+        format!("{}\n{}\n", lines[0], rows.join("\n"))
+    };
+    for (value, what) in [
+        ("NaN", "is not a finite number"),
+        ("inf", "is not a finite number"),
+    ] {
+        let err = compare("nan.csv", with_cell("mu", value));
+        assert!(
+            err.contains(&format!("row 3, column `mu`: `{value}` {what}")),
+            "{err}"
+        );
+    }
+    let err = compare("negative.csv", with_cell("phi_loc_se", "-1e-3"));
+    assert!(
+        err.contains("row 3, column `phi_loc_se`: `-1e-3` is negative; a standard error cannot be"),
+        "{err}"
+    );
+    let err = compare(
+        "long.csv",
+        with_cell("mu", &"9".repeat(500_000).replace("99", "9x")),
+    );
+    assert!(
+        err.contains("... (500000 bytes)` is not a number") && !err.contains(&"9x".repeat(100)),
+        "{}",
+        &err[..err.len().min(300)]
+    );
+    // merge refuses a negative standard error too, naming the line.
+    let negative = dir.join("negative.csv");
+    let o = suspflow(&[
+        "merge",
+        negative.to_str().unwrap(),
+        "--out",
+        dir.join("m.csv").to_str().unwrap(),
+    ]);
+    assert!(
+        stderr(&o).contains("line 4, column `phi_loc_se`: a standard error cannot be negative"),
+        "{}",
+        stderr(&o)
+    );
 }

@@ -225,9 +225,18 @@ fn numeric_column(text: &str, name: &str) -> Vec<f64> {
         .collect()
 }
 
-/// Trains untuned models of the given mappings (all when empty) on `data` into `models`.
+/// Trains untuned models of the given mappings (all when empty) on `data` into `models`,
+/// replacing models of those mappings already there.
 fn train_untuned(data: &Path, models: &Path, mappings: &[&str]) {
-    let mut args = vec!["train", "--data", s(data), "--out", s(models), "--no-tune"];
+    let mut args = vec![
+        "train",
+        "--data",
+        s(data),
+        "--out",
+        s(models),
+        "--no-tune",
+        "--force",
+    ];
     for m in mappings {
         args.extend(["--mapping", m]);
     }
@@ -261,10 +270,18 @@ fn train_then_predict_reproduces_a_smooth_law() {
         s(&pred),
     ]);
     let text = std::fs::read_to_string(&pred).unwrap();
+    // Every input column is kept, as --help says, then the prediction and
+    // the training-domain columns.
     assert_eq!(
         text.lines().next().unwrap(),
-        "J,phi_loc,phi,mu_pred,in_domain,domain_distance"
+        format!("{HEADER},mu_pred,in_domain,domain_distance")
     );
+    let input = std::fs::read_to_string(&data).unwrap();
+    for (out_line, in_line) in text.lines().zip(input.lines()).skip(1) {
+        // (the writer quotes only cells that need it: the profile's quotes go)
+        let in_line = in_line.replace('"', "");
+        assert!(out_line.starts_with(&format!("{in_line},")), "{out_line}");
+    }
     let got = numeric_column(&text, "mu_pred");
     let truth: Vec<f64> = std::fs::read_to_string(&data)
         .unwrap()
@@ -753,6 +770,7 @@ fn empty_cells_are_skipped_and_counted_per_mapping() {
         "--out",
         s(&models),
         "--no-tune",
+        "--force",
         "--mapping",
         "theta",
     ]);
@@ -959,5 +977,74 @@ fn bench_predict_times_load_read_and_predict_of_a_50_bin_profile() {
         "theta",
     ]);
     assert!(err.contains("theta.meta.json"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn train_keeps_existing_models_and_validate_warns_on_training_rows() {
+    let dir = scratch("overlap");
+    let train = write(&dir, "train.csv", &table(&training_scenes(4, 10), &[], &[]));
+    let models = dir.join("models");
+    train_untuned(&train, &models, &["mu"]);
+    let trees = std::fs::read(models.join("mu.json")).unwrap();
+    let args = [
+        "train",
+        "--data",
+        s(&train),
+        "--out",
+        s(&models),
+        "--no-tune",
+        "--mapping",
+        "mu",
+    ];
+    let err = suspflow_err(&args);
+    assert!(
+        err.contains("mu.json already exists (a trained `mu` model); --force replaces it"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(models.join("mu.json")).unwrap(), trees);
+    let mut forced = args.to_vec();
+    forced.push("--force");
+    suspflow_ok(&forced);
+
+    let validate = |data: &Path| {
+        let out = suspflow_ok(&[
+            "validate",
+            "--models",
+            s(&models),
+            "--data",
+            s(data),
+            "--mapping",
+            "mu",
+            "--json",
+        ]);
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let err = validate(&train);
+    assert!(
+        err.contains("holds the very bytes model `mu` was trained on"),
+        "{err}"
+    );
+    let unseen = table(&validation_scenes(10), &[], &[]);
+    let training_text = std::fs::read_to_string(&train).unwrap();
+    let training_rows: Vec<&str> = training_text.lines().skip(1).take(5).collect();
+    let mixed = write(
+        &dir,
+        "mixed.csv",
+        &format!("{unseen}{}\n", training_rows.join("\n")),
+    );
+    let err = validate(&mixed);
+    let rows = unseen.lines().count() - 1 + 5;
+    assert!(
+        err.contains(&format!(
+            "5 of the {rows} validation rows of model `mu` are also training rows"
+        )),
+        "{err}"
+    );
+    let clean = write(&dir, "clean.csv", &unseen);
+    assert!(
+        !validate(&clean).contains("training"),
+        "no overlap, no warning"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -9,7 +9,12 @@
 //! Units: `y` and `L_y` in particle radii `a`; `u` in `a` per unit time; `u'` in 1/time.
 
 use crate::error::SimError;
+use crate::profile_syntax::{check_function_names, ScientificNumber};
 use exmex::prelude::*;
+use exmex::FloatOpsFactory;
+
+/// A parsed expression: exmex's operators, numbers with exponents (`1e-3`).
+type Expr = FlatEx<f64, FloatOpsFactory<f64>, ScientificNumber>;
 
 /// Table intervals per period. Cubic Hermite interpolation from exact values and slopes errs
 /// by at most `h^4/384 * max|f''''|` with `h = L_y / TABLE_INTERVALS`; for
@@ -234,7 +239,7 @@ impl FlowProfile {
 /// Direct evaluation of the expression and its first two y-derivatives; used only while
 /// building and checking the table.
 struct Exact {
-    u: FlatEx<f64>,
+    u: Expr,
     derivatives: Derivatives,
     /// Values of the expression's variables in exmex's (sorted) order, with `y` set to 0.
     variables: Vec<f64>,
@@ -248,14 +253,15 @@ enum Derivatives {
     Constant,
     /// exmex's symbolic first and second partial derivatives in `y` (boxed: exmex
     /// expressions are large).
-    Symbolic(Box<[FlatEx<f64>; 2]>),
+    Symbolic(Box<[Expr; 2]>),
     /// 4th-order central differences of `u` with this step (`a`).
     FiniteDifference(f64),
 }
 
 impl Exact {
     fn parse(expr: &str, l_y: f64) -> Result<Exact, String> {
-        let u = FlatEx::<f64>::parse(expr).map_err(|e| format!("does not parse: {e}"))?;
+        check_function_names(expr)?;
+        let u = Expr::parse(expr).map_err(|e| format!("does not parse: {e}"))?;
         let names = u.var_names().to_vec();
         if let Some(unknown) = names
             .iter()
@@ -325,7 +331,7 @@ impl Exact {
         }
     }
 
-    fn eval(&self, f: &FlatEx<f64>, y: f64) -> Result<f64, String> {
+    fn eval(&self, f: &Expr, y: f64) -> Result<f64, String> {
         let mut variables = self.variables.clone();
         if let Some(slot) = self.y_slot {
             variables[slot] = y;
@@ -426,6 +432,33 @@ mod tests {
     }
 
     #[test]
+    fn e_notation_numbers() {
+        let k = 2.0 * PI / 50.0;
+        check(
+            "1e-3*sin(2*pi*y/L) + 2.5E+1*0",
+            50.0,
+            |y| 1e-3 * (k * y).sin(),
+            |y| 1e-3 * k * (k * y).cos(),
+        );
+        // Euler's number still reads as a constant next to a number.
+        check(
+            "2*e*cos(2*pi*y/L)",
+            50.0,
+            |y| 2.0 * std::f64::consts::E * (k * y).cos(),
+            |y| -2.0 * std::f64::consts::E * k * (k * y).sin(),
+        );
+    }
+
+    #[test]
+    fn refuses_unknown_function_naming_the_known_ones() {
+        let message = refusal("0.1*SIN(2*pi*y/L)", 50.0);
+        assert!(
+            message.contains("unknown function `SIN`") && message.contains("sin, cos"),
+            "{message}"
+        );
+    }
+
+    #[test]
     fn constant_profile_has_no_shear() {
         let p = FlowProfile::new("0.3", 20.0).unwrap();
         assert_eq!(
@@ -485,7 +518,17 @@ mod tests {
 
     #[test]
     fn refuses_garbage() {
-        for expr in ["", "0.1*sin(", "0.1*", "sin(2*pi*y/L))", "0.1 $ y", "y y"] {
+        // A quote or a newline can never reach the quoted `profile` cell of a CSV file.
+        for expr in [
+            "",
+            "0.1*sin(",
+            "0.1*",
+            "sin(2*pi*y/L))",
+            "0.1 $ y",
+            "y y",
+            "0.1\"*y",
+            "0.1*\nsin(2*pi*y/L)",
+        ] {
             let message = refusal(expr, 50.0);
             assert!(message.contains(&format!("`{expr}`")), "{message}");
         }

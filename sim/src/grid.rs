@@ -109,6 +109,15 @@ impl Grid {
         for (key, value) in &file.vary {
             match value {
                 Value::Array(values) if !values.is_empty() => {
+                    if let Some(twice) = values
+                        .iter()
+                        .enumerate()
+                        .find_map(|(k, v)| values[..k].contains(v).then_some(v))
+                    {
+                        return Err(grid_error(format!(
+                            "vary.\"{key}\" lists {twice} twice: the grid would run the same scene twice"
+                        )));
+                    }
                     lists.push((key.as_str(), values.as_slice()))
                 }
                 _ => {
@@ -120,6 +129,18 @@ impl Grid {
             if file.cases.iter().any(|c| c.contains_key(key)) {
                 return Err(grid_error(format!(
                     "`{key}` is both in [vary] and in a [[cases]] table"
+                )));
+            }
+        }
+        for (k, case) in file.cases.iter().enumerate() {
+            if case.contains_key("name") {
+                return Err(grid_error(format!(
+                    "cases[{k}] sets `name`; scene names are `<grid name>_<index>`"
+                )));
+            }
+            if let Some(first) = file.cases[..k].iter().position(|c| c == case) {
+                return Err(grid_error(format!(
+                    "cases[{first}] and cases[{k}] are the same case: the grid would run the same scene twice"
                 )));
             }
         }

@@ -26,6 +26,11 @@ use std::time::Instant;
 /// generator, so no pair starts inside the regularised lubrication range.
 pub const PACKING_GAP: f64 = 4e-3;
 
+/// Steps between two looks at the interrupt flag inside a sample interval: a slowly
+/// sheared scene may take millions of steps between snapshots, and Ctrl-C must not wait
+/// for them (one look costs an atomic load; a step costs microseconds or more).
+const INTERRUPT_POLL_STEPS: u64 = 256;
+
 /// Where a run is.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
@@ -44,6 +49,9 @@ pub struct Progress {
     pub snapshots: usize,
     pub snapshots_target: usize,
     pub step: u64,
+    /// Snapshots sampled since the run began (equilibration and averaging, counting those
+    /// before a resume): 1 at the first call.
+    pub samples: u64,
 }
 
 /// Options that do not change the physics.
@@ -53,7 +61,8 @@ pub struct RunOptions {
     pub checkpoint: Option<PathBuf>,
     /// Continue from the checkpoint if it exists.
     pub resume: bool,
-    /// Set (e.g. by Ctrl-C) to stop at the next snapshot after saving a checkpoint.
+    /// Set (e.g. by Ctrl-C) to stop within [`INTERRUPT_POLL_STEPS`] steps after saving a
+    /// checkpoint.
     pub interrupt: Option<&'static AtomicBool>,
 }
 
@@ -68,6 +77,10 @@ struct RunState {
     overlap_mean_sum: f64,
     overlap_max: f64,
     wall_s: f64,
+    /// Steps already taken towards the next snapshot (non-zero only in a checkpoint
+    /// written on an interrupt inside a sample interval).
+    #[serde(default)]
+    steps_into_sample: u64,
 }
 
 /// Everything a resumed run needs, written at checkpoints.
@@ -158,6 +171,7 @@ fn fresh_state(scene: &Scene) -> RunState {
         overlap_mean_sum: 0.0,
         overlap_max: 0.0,
         wall_s: 0.0,
+        steps_into_sample: 0,
     }
 }
 
@@ -168,6 +182,20 @@ fn same_scene(a: &SceneFile, b: &SceneFile) -> bool {
         serde_json::to_string(&s).unwrap_or_default()
     };
     strip(a) == strip(b)
+}
+
+fn save_checkpoint(
+    path: &std::path::Path,
+    st: &RunState,
+    sim: &Simulation,
+) -> Result<(), SimError> {
+    checkpoint::save(
+        path,
+        &Checkpoint {
+            run: st.clone(),
+            system: sim.state(),
+        },
+    )
 }
 
 /// Runs `scene` to a steady-state profile, calling `progress` after every snapshot
@@ -206,8 +234,21 @@ pub fn run(
     let mut last_checkpoint = Instant::now();
     let wall_before = st.wall_s;
     let mut sums_scratch = vec![0.0; snapshot::field::FIELDS * scene.n_bins];
+    let interrupt_requested = || opts.interrupt.is_some_and(|f| f.load(Ordering::SeqCst));
     loop {
-        sim.advance(steps_per_sample)?;
+        while st.steps_into_sample < steps_per_sample {
+            let chunk = (steps_per_sample - st.steps_into_sample).min(INTERRUPT_POLL_STEPS);
+            sim.advance(chunk)?;
+            st.steps_into_sample += chunk;
+            if st.steps_into_sample < steps_per_sample && interrupt_requested() {
+                if let Some(path) = &opts.checkpoint {
+                    st.wall_s = wall_before + started.elapsed().as_secs_f64();
+                    save_checkpoint(path, &st, &sim)?;
+                }
+                return Err(SimError::Interrupted { step: sim.step });
+            }
+        }
+        st.steps_into_sample = 0;
         let strain = gdot * sim.time;
         let t = sim.timers.start();
         sums_scratch.iter_mut().for_each(|x| *x = 0.0);
@@ -248,23 +289,18 @@ pub fn run(
                 snapshots: st.averaging.taken,
                 snapshots_target: target,
                 step: sim.step,
+                samples: sim.step / steps_per_sample,
             },
             &sim,
         );
         if st.phase == Phase::Averaging && st.averaging.full() {
             break;
         }
-        let interrupted = opts.interrupt.is_some_and(|f| f.load(Ordering::SeqCst));
+        let interrupted = interrupt_requested();
         if let Some(path) = &opts.checkpoint {
             if interrupted || last_checkpoint.elapsed().as_secs_f64() >= r.checkpoint_every_s {
                 st.wall_s = wall_before + started.elapsed().as_secs_f64();
-                checkpoint::save(
-                    path,
-                    &Checkpoint {
-                        run: st.clone(),
-                        system: sim.state(),
-                    },
-                )?;
+                save_checkpoint(path, &st, &sim)?;
                 last_checkpoint = Instant::now();
             }
         }

@@ -2,6 +2,8 @@
 //! field by field, with the derived quantities a run needs (N, Stokes number, bins).
 use crate::error::SimError;
 use crate::flow_profile::FlowProfile;
+use crate::memory_estimate;
+use crate::scene_name;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -11,7 +13,8 @@ use std::path::Path;
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
-    /// Free-form name, copied to the outputs.
+    /// Name copied to the outputs (`scene_id`); letters, digits, `_`, `-`, `.` (see
+    /// [`scene_name`]).
     #[serde(default = "default_name")]
     pub name: String,
     /// RNG seed of the initial packing.
@@ -45,8 +48,9 @@ pub struct ParticleSection {
     /// Radii of the species (units a).
     #[serde(default = "default_radii")]
     pub radii: Vec<f64>,
-    /// Number fractions of the species (normalised to sum 1).
-    #[serde(default = "default_fractions")]
+    /// Number fractions of the species (must sum to 1); equal numbers of each radius when
+    /// absent (an empty list until validation fills it in).
+    #[serde(default)]
     pub fractions: Vec<f64>,
     /// Particle density (mass per a^3); 1 when neither this nor `stokes` is given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -145,9 +149,6 @@ fn default_seed() -> u64 {
 fn default_radii() -> Vec<f64> {
     vec![1.0, 1.4]
 }
-fn default_fractions() -> Vec<f64> {
-    vec![0.5, 0.5]
-}
 fn one() -> f64 {
     1.0
 }
@@ -222,9 +223,15 @@ pub struct Scene {
     pub rho: f64,
     /// Stokes number `rho a^2 gdot_max / eta` with a the small radius (SPEC section 1).
     pub stokes: f64,
+    /// Estimated peak memory of a run (bytes, see [`memory_estimate`]).
+    pub memory_bytes: f64,
     /// Non-fatal problems (Stokes number too large, ...).
     pub warnings: Vec<String>,
 }
+
+/// Largest accepted `|sum of number fractions - 1|` (room for decimal round-off such as
+/// `[0.1, 0.2, 0.7]`).
+const FRACTION_SUM_TOLERANCE: f64 = 1e-9;
 
 fn positive(field: &str, v: f64) -> Result<(), SimError> {
     if v.is_finite() && v > 0.0 {
@@ -263,8 +270,14 @@ impl Scene {
         Self::from_file(file, strict)
     }
 
-    /// Validates a parsed scene.
-    pub fn from_file(file: SceneFile, strict: bool) -> Result<Scene, SimError> {
+    /// Validates a parsed scene; absent number fractions become equal fractions of the
+    /// radii given.
+    pub fn from_file(mut file: SceneFile, strict: bool) -> Result<Scene, SimError> {
+        scene_name::check(&file.name).map_err(|m| SimError::field("name", m))?;
+        if file.particles.fractions.is_empty() {
+            let n = file.particles.radii.len();
+            file.particles.fractions = vec![1.0 / n as f64; n];
+        }
         let b = &file.box_;
         positive("box.l_x", b.l_x)?;
         positive("box.l_y", b.l_y)?;
@@ -292,16 +305,27 @@ impl Scene {
         for (k, &a) in p.radii.iter().enumerate() {
             positive(&format!("particles.radii[{k}]"), a)?;
         }
+        let fraction_sum: f64 = p.fractions.iter().sum();
         if p.fractions.iter().any(|f| !(f.is_finite() && *f >= 0.0))
-            || p.fractions.iter().sum::<f64>() <= 0.0
+            || (fraction_sum - 1.0).abs() > FRACTION_SUM_TOLERANCE
         {
             return Err(SimError::field(
                 "particles.fractions",
-                "must be non-negative with a positive sum",
+                format!(
+                    "number fractions must be non-negative and sum to 1, got {:?} (sum {fraction_sum})",
+                    p.fractions
+                ),
             ));
         }
         positive("fluid.eta", file.fluid.eta)?;
         let f = &file.forces;
+        if !(f.contact || f.drag || f.lubrication) {
+            return Err(SimError::field(
+                "forces",
+                "contact, drag and lubrication are all off: nothing couples the particles to \
+                 the flow or limits the time step; switch at least one on",
+            ));
+        }
         positive("forces.k_n", f.k_n)?;
         if !(f.mu_p.is_finite() && f.mu_p >= 0.0) {
             return Err(SimError::field(
@@ -356,6 +380,17 @@ impl Scene {
             ));
         }
         let profile = FlowProfile::new(&file.fluid.profile, b.l_y)?;
+        let gdot_max = profile.max_abs_shear_rate();
+        if gdot_max == 0.0 {
+            return Err(SimError::field(
+                "fluid.profile",
+                format!(
+                    "`{}` has no shear (max |u'| = 0): the run's clock is the strain, which would \
+                     never advance; give a profile whose shear rate is not zero everywhere",
+                    file.fluid.profile
+                ),
+            ));
+        }
 
         let a_max = p.radii.iter().cloned().fold(0.0, f64::max);
         let a_min = p.radii.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -378,8 +413,7 @@ impl Scene {
             }
         }
 
-        let fsum: f64 = p.fractions.iter().sum();
-        let fractions: Vec<f64> = p.fractions.iter().map(|x| x / fsum).collect();
+        let fractions: Vec<f64> = p.fractions.iter().map(|x| x / fraction_sum).collect();
         let volume = b.l_x * b.l_y * b.l_z;
         let mean_particle_volume: f64 = fractions
             .iter()
@@ -387,6 +421,23 @@ impl Scene {
             .map(|(x, a)| x * 4.0 / 3.0 * PI * a.powi(3))
             .sum();
         let n_total = (p.phi * volume / mean_particle_volume).round() as usize;
+        let memory_bytes =
+            memory_estimate::run_bytes(n_total, [b.l_x, b.l_y, b.l_z], interaction_range + r.skin);
+        if let Some(machine) = memory_estimate::physical_bytes().filter(|&m| memory_bytes > m) {
+            return Err(SimError::field(
+                "box",
+                format!(
+                    "{n_total} particles (phi = {} in a box of {} x {} x {}) need about {} of \
+                     memory, more than this machine's {}; use a smaller box",
+                    p.phi,
+                    b.l_x,
+                    b.l_y,
+                    b.l_z,
+                    memory_estimate::describe(memory_bytes),
+                    memory_estimate::describe(machine)
+                ),
+            ));
+        }
         let mut counts: Vec<usize> = fractions
             .iter()
             .map(|x| (x * n_total as f64).round() as usize)
@@ -411,7 +462,6 @@ impl Scene {
             .sum();
         let phi_actual = solid / volume;
 
-        let gdot_max = profile.max_abs_shear_rate();
         let rho = match (p.rho, p.stokes) {
             (Some(_), Some(_)) => {
                 return Err(SimError::field(
@@ -425,12 +475,6 @@ impl Scene {
             }
             (None, Some(st)) => {
                 positive("particles.stokes", st)?;
-                if !(gdot_max > 0.0) {
-                    return Err(SimError::field(
-                        "particles.stokes",
-                        "needs a profile with a non-zero shear rate",
-                    ));
-                }
                 st * file.fluid.eta / (a_min * a_min * gdot_max)
             }
             (None, None) => 1.0,
@@ -458,6 +502,7 @@ impl Scene {
             interaction_range,
             rho,
             stokes,
+            memory_bytes,
             warnings,
             profile,
             file,
@@ -497,5 +542,46 @@ impl Scene {
     /// Largest shear rate of the streaming profile, the strain-rate unit of the run.
     pub fn gdot_max(&self) -> f64 {
         self.profile.max_abs_shear_rate()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(particles: &str) -> Result<Scene, SimError> {
+        Scene::from_toml(
+            &format!(
+                "[box]\nl_x = 8.0\nl_y = 12.0\nl_z = 8.0\n[particles]\nphi = 0.5\n{particles}\n\
+                 [fluid]\nprofile = \"0.1*sin(2*pi*y/L)\"\n"
+            ),
+            false,
+        )
+    }
+
+    #[test]
+    fn absent_fractions_are_equal_numbers_of_the_radii_given() {
+        let one = scene("radii = [1.0]").unwrap();
+        assert_eq!(one.file.particles.fractions, vec![1.0]);
+        assert_eq!(one.counts.len(), 1);
+        let three = scene("radii = [1.0, 1.2, 1.4]").unwrap();
+        assert_eq!(three.file.particles.fractions, vec![1.0 / 3.0; 3]);
+        let (lo, hi) = (
+            three.counts.iter().min().unwrap(),
+            three.counts.iter().max().unwrap(),
+        );
+        assert!(hi - lo <= 1, "{:?}", three.counts);
+        // The default radii keep the fractions they always had.
+        assert_eq!(scene("").unwrap().file.particles.fractions, vec![0.5, 0.5]);
+    }
+
+    #[test]
+    fn fractions_must_sum_to_one() {
+        let message = scene("fractions = [0.3, 0.3]").unwrap_err().to_string();
+        assert!(
+            message.contains("sum to 1") && message.contains("sum 0.6"),
+            "{message}"
+        );
+        assert!(scene("radii = [1.0, 1.2, 1.4]\nfractions = [0.1, 0.2, 0.7]").is_ok());
     }
 }

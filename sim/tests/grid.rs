@@ -95,3 +95,21 @@ fn a_grid_without_vary_or_cases_is_one_scene() {
     assert_eq!(grid.scenes.len(), 1);
     assert_eq!(grid.scenes[0].id, "g_000");
 }
+
+#[test]
+fn duplicate_scenes_are_refused() {
+    let refusal = |extra: &str| {
+        Grid::from_toml(&format!("{BASE}\n{extra}"), false)
+            .unwrap_err()
+            .to_string()
+    };
+    let message = refusal("[vary]\nseed = [1, 2, 1]\n");
+    assert!(message.contains("vary.\"seed\" lists 1 twice"), "{message}");
+    let message = refusal("[[cases]]\nseed = 2\n[[cases]]\nseed = 3\n[[cases]]\nseed = 2\n");
+    assert!(
+        message.contains("cases[0] and cases[2] are the same case"),
+        "{message}"
+    );
+    let message = refusal("[[cases]]\nname = \"x\"\n");
+    assert!(message.contains("cases[0] sets `name`"), "{message}");
+}

@@ -166,3 +166,47 @@ fn binned_solid_volume_sums_to_the_total() {
         .sum();
     assert_eq!(counted as usize, sim.particles.len());
 }
+
+#[test]
+fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    // Snapshots every 0.5 strain: well over a thousand steps between two of them.
+    let mut file = tiny().file;
+    file.run.sample_strain = 0.5;
+    file.run.window_strain = 0.5;
+    file.run.snapshots = 4;
+    file.run.blocks = 2;
+    let scene = Scene::from_file(file, false).unwrap();
+    let steps_per_sample = (scene.file.run.sample_strain
+        / (scene.gdot_max() * sim::timestep::TimeStep::for_scene(&scene).dt))
+        .round() as u64;
+    assert!(
+        steps_per_sample > 1000,
+        "{steps_per_sample} steps per sample"
+    );
+    let dir = std::env::temp_dir().join(format!("suspflow-midsample-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let opts = RunOptions {
+        checkpoint: Some(dir.join("checkpoint.json")),
+        resume: true,
+        interrupt: Some(&STOP),
+    };
+    on_threads(1, || {
+        let plain = rows(&scene, &RunOptions::default(), None).unwrap();
+        STOP.store(true, Ordering::SeqCst);
+        match rows(&scene, &opts, None) {
+            Err(SimError::Interrupted { step }) => assert!(
+                step < steps_per_sample,
+                "stopped at step {step}, not inside the first interval of {steps_per_sample}"
+            ),
+            other => panic!("expected an interruption, got {:?}", other.map(|_| ())),
+        }
+        STOP.store(false, Ordering::SeqCst);
+        let resumed = rows(&scene, &opts, None).unwrap();
+        assert_eq!(
+            plain, resumed,
+            "resuming mid-interval must reproduce the run"
+        );
+    });
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -125,6 +125,8 @@ pub struct Booster {
     inner: xgb::Booster,
     n_features: usize,
     n_outputs: usize,
+    /// Feature names stored in the model (empty if none were).
+    feature_names: Vec<String>,
 }
 
 impl fmt::Debug for Booster {
@@ -194,6 +196,7 @@ impl Booster {
             inner,
             n_features: features.ncols(),
             n_outputs: labels.ncols(),
+            feature_names: feature_names.iter().map(|&n| n.to_owned()).collect(),
         })
     }
 
@@ -256,13 +259,20 @@ impl Booster {
             .learner
             .learner_model_param
             .counts(&path.display().to_string())?;
+        let feature_names = model.learner.feature_names;
         let mut inner = xgb::Booster::load_buffer(&json)?;
         inner.set_param("nthread", "1")?;
         Ok(Booster {
             inner,
             n_features,
             n_outputs,
+            feature_names,
         })
+    }
+
+    /// Feature names stored in the model, in input order (empty if none were).
+    pub fn feature_names(&self) -> &[String] {
+        &self.feature_names
     }
 
     /// XGBoost's "gain" importance of each feature (see [`Forest::feature_importance_gain`]).

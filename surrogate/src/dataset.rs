@@ -13,12 +13,16 @@ use std::path::Path;
 use ndarray::Array2;
 
 use crate::error::{Result, SurrogateError};
+use crate::excerpt::excerpt;
 use crate::files;
 use crate::fingerprint::fnv1a_64;
 
 /// The column whose value names the simulation a row comes from: the grouping key for
 /// cross-validation, so that rows of one simulation never sit on both sides of a split.
 pub const GROUP_COLUMN: &str = "scene_id";
+
+/// The UTF-8 byte-order mark some editors put at the start of a CSV file.
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// A table read from CSV, with a fingerprint of the bytes it was read from.
 #[derive(Debug, Clone)]
@@ -64,8 +68,8 @@ impl Dataset {
         Self::from_csv_bytes(&bytes, &path.display().to_string())
     }
 
-    /// Parses CSV text with a header line; `source_name` names it in error messages.
-    /// Fails on an empty table, a duplicated column name, or a row with a different number of
+    /// Parses CSV text with a header line (a leading UTF-8 byte-order mark is skipped);
+    /// `source_name` names it in error messages. Fails on an empty table, a duplicated column name, or a row with a different number of
     /// fields than the header.
     pub fn from_csv_bytes(bytes: &[u8], source_name: &str) -> Result<Self> {
         let csv_error = |source| SurrogateError::Csv {
@@ -76,7 +80,7 @@ impl Dataset {
             .has_headers(true)
             .flexible(true)
             .trim(csv::Trim::All)
-            .from_reader(bytes);
+            .from_reader(bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes));
         let names: Vec<String> = reader
             .headers()
             .map_err(csv_error)?
@@ -151,7 +155,7 @@ impl Dataset {
                 source_name: self.source_name.clone(),
                 row: index + 1,
                 column: name.to_owned(),
-                text: column.text[index].clone(),
+                text: excerpt(&column.text[index]),
             })
     }
 
@@ -160,9 +164,18 @@ impl Dataset {
         Ok(&self.find(name)?.text)
     }
 
-    /// The grouping key of each row: the text of [`GROUP_COLUMN`].
+    /// The grouping key of each row: the text of [`GROUP_COLUMN`]; an empty key is an
+    /// error naming its row (a row of no simulation cannot be grouped).
     pub fn group_keys(&self) -> Result<&[String]> {
-        self.text(GROUP_COLUMN)
+        let keys = self.text(GROUP_COLUMN)?;
+        match keys.iter().position(String::is_empty) {
+            Some(row) => Err(SurrogateError::InvalidArgument(format!(
+                "{}: data row {}, column `{GROUP_COLUMN}` is empty; every row must name its simulation",
+                self.source_name,
+                row + 1
+            ))),
+            None => Ok(keys),
+        }
     }
 
     /// The columns `names`, in that order, as a rows x columns matrix of finite numbers.
@@ -309,6 +322,34 @@ mod tests {
             data.complete_rows(&["P"]),
             Err(SurrogateError::MissingColumn { .. })
         ));
+    }
+
+    #[test]
+    fn byte_order_mark_is_skipped() {
+        let data = Dataset::from_csv_bytes(b"\xEF\xBB\xBFscene_id,J\ns1,0.1\n", "t").unwrap();
+        assert_eq!(data.column_names(), &["scene_id", "J"]);
+        assert_eq!(data.group_keys().unwrap(), &["s1"]);
+    }
+
+    #[test]
+    fn empty_group_key_is_refused_naming_the_row() {
+        let data = Dataset::from_csv_bytes(b"scene_id,J\ns1,0.1\n,0.2\n", "t").unwrap();
+        let message = data.group_keys().unwrap_err().to_string();
+        assert!(
+            message.contains("data row 2, column `scene_id` is empty"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn a_huge_cell_is_cut_in_the_message() {
+        let cell = "x".repeat(500_000);
+        let data = Dataset::from_csv_bytes(format!("J\n{cell}\n").as_bytes(), "t").unwrap();
+        let message = data.column("J").unwrap_err().to_string();
+        assert!(
+            message.len() < 200 && message.contains("... (500000 bytes)"),
+            "{message}"
+        );
     }
 
     #[test]

@@ -20,6 +20,8 @@ use crate::xgboost_json::{ModelJson, TreeJson};
 #[derive(Debug, Clone)]
 pub struct Forest {
     n_features: usize,
+    /// Feature names stored in the model (empty if none were).
+    feature_names: Vec<String>,
     /// The starting value of each output.
     base_score: Vec<f32>,
     trees: Vec<Tree>,
@@ -94,9 +96,15 @@ impl Forest {
             .collect::<Result<Vec<_>>>()?;
         Ok(Forest {
             n_features,
+            feature_names: learner.feature_names,
             base_score,
             trees,
         })
+    }
+
+    /// Feature names stored in the model file, in input order (empty if none were).
+    pub fn feature_names(&self) -> &[String] {
+        &self.feature_names
     }
 
     /// Number of input features.

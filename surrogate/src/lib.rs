@@ -20,6 +20,7 @@ pub mod booster;
 pub mod cross_validation;
 pub mod dataset;
 pub mod error;
+pub mod excerpt;
 mod files;
 mod fingerprint;
 pub mod forest;
@@ -43,6 +44,7 @@ pub use cross_validation::{
 };
 pub use dataset::{Dataset, GROUP_COLUMN};
 pub use error::{Result, SurrogateError};
+pub use excerpt::excerpt;
 pub use forest::Forest;
 pub use local_rheology::LocalRheology;
 pub use mapping::{Mapping, MAPPINGS};

@@ -160,7 +160,7 @@ impl TrainedModel {
     /// booster and the mapping's current definition agree on features and outputs.
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         let (meta, booster, domain) = ModelMeta::load_with(dir, name, Booster::load_json, |b| {
-            (b.n_features(), b.n_outputs())
+            (b.n_features(), b.n_outputs(), b.feature_names().to_vec())
         })?;
         Ok(TrainedModel {
             meta,
@@ -211,13 +211,14 @@ impl ModelMeta {
 
     /// Reads the sidecar `<dir>/<name>.meta.json`, the trees `<dir>/<name>.json` (with
     /// `load_trees`) and the training domain `<dir>/<name>.domain.json`, and checks that the
-    /// sidecar, the trees' `(features, outputs)` counts as `shape` tells them, the domain's
-    /// feature count and mapping `name`'s current definition agree.
+    /// sidecar, the trees' `(features, outputs, feature names)` as `shape` tells them, the
+    /// domain's feature count and mapping `name`'s current definition agree. Trees that store
+    /// no feature names are checked by their counts alone.
     pub(crate) fn load_with<T>(
         dir: &Path,
         name: &str,
         load_trees: impl FnOnce(&Path) -> Result<T>,
-        shape: impl FnOnce(&T) -> (usize, usize),
+        shape: impl FnOnce(&T) -> (usize, usize, Vec<String>),
     ) -> Result<(Self, T, TrainingDomain)> {
         let mapping = Mapping::by_name(name)?;
         let paths = ModelPaths::new(dir, name);
@@ -225,7 +226,7 @@ impl ModelMeta {
         let meta: ModelMeta = files::read_json(meta_path)?;
         let trees = load_trees(trees_path)?;
         let domain: TrainingDomain = files::read_json(&paths.domain)?;
-        let (n_features, n_outputs) = shape(&trees);
+        let (n_features, n_outputs, tree_features) = shape(&trees);
         let mismatch = |detail: String| SurrogateError::FeatureMismatch {
             detail,
             expected: mapping.features.iter().map(|&s| s.to_owned()).collect(),
@@ -257,6 +258,16 @@ impl ModelMeta {
                 meta.features.len(),
                 meta.outputs.len(),
                 meta.scaling.ranges.len()
+            )));
+        }
+        if !tree_features.is_empty() && tree_features != meta.features {
+            return Err(mismatch(format!(
+                "the trees in {} were trained on features [{}], not on the [{}] of {} (trees of \
+                 another mapping?)",
+                trees_path.display(),
+                tree_features.join(", "),
+                meta.features.join(", "),
+                meta_path.display()
             )));
         }
         if domain.axes.len() != meta.features.len()

@@ -28,8 +28,9 @@ impl Predictor {
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         let read_trees =
             |path: &Path| Forest::from_json(&files::read(path)?, &path.display().to_string());
-        let (meta, forest, domain) =
-            ModelMeta::load_with(dir, name, read_trees, |f| (f.n_features(), f.n_outputs()))?;
+        let (meta, forest, domain) = ModelMeta::load_with(dir, name, read_trees, |f| {
+            (f.n_features(), f.n_outputs(), f.feature_names().to_vec())
+        })?;
         Ok(Predictor {
             meta,
             forest,

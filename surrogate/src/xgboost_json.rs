@@ -15,6 +15,9 @@ pub(crate) struct ShapeJson {
 #[derive(Deserialize)]
 pub(crate) struct LearnerShapeJson {
     pub learner_model_param: LearnerModelParamJson,
+    /// The feature names the model was trained with (empty if it was given none).
+    #[serde(default)]
+    pub feature_names: Vec<String>,
 }
 
 /// A model with its trees.
@@ -26,6 +29,9 @@ pub(crate) struct ModelJson {
 #[derive(Deserialize)]
 pub(crate) struct LearnerJson {
     pub learner_model_param: LearnerModelParamJson,
+    /// The feature names the model was trained with (empty if it was given none).
+    #[serde(default)]
+    pub feature_names: Vec<String>,
     pub gradient_booster: GradientBoosterJson,
     pub objective: ObjectiveJson,
 }

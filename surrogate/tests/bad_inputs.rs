@@ -177,11 +177,11 @@ fn model_whose_sidecar_disagrees_is_refused_on_load() {
     assert!(error.to_string().contains("Theta"), "{error}");
 }
 
-#[test]
-fn model_whose_booster_disagrees_is_refused_on_load() {
+/// A scratch directory `dir_name` with default models of `mappings` trained and saved.
+fn saved_models(dir_name: &str, mappings: &[&str]) -> std::path::PathBuf {
     let data = synthetic_dataset(2, 10, 3);
-    let dir = scratch_dir("swapped_booster");
-    for name in ["mu", "theta"] {
+    let dir = scratch_dir(dir_name);
+    for &name in mappings {
         TrainedModel::train(
             Mapping::by_name(name).unwrap(),
             &data,
@@ -191,6 +191,12 @@ fn model_whose_booster_disagrees_is_refused_on_load() {
         .save(&dir)
         .unwrap();
     }
+    dir
+}
+
+#[test]
+fn model_whose_booster_disagrees_is_refused_on_load() {
+    let dir = saved_models("swapped_booster", &["mu", "theta"]);
     // The two-output booster of `theta` under the one-output sidecar of `mu`.
     std::fs::copy(dir.join("theta.json"), dir.join("mu.json")).unwrap();
     let error = TrainedModel::load(&dir, "mu").unwrap_err();
@@ -199,6 +205,30 @@ fn model_whose_booster_disagrees_is_refused_on_load() {
         "{error:?}"
     );
     assert!(error.to_string().contains("2 outputs"), "{error}");
+}
+
+#[test]
+fn trees_of_another_mapping_with_the_same_shape_are_refused_by_feature_name() {
+    let dir = saved_models("dv_as_theta", &["theta", "dv"]);
+    // dv's trees (J, Delta_v, phi) -> (phi_loc, mu) have theta's shape exactly.
+    std::fs::copy(dir.join("dv.json"), dir.join("theta.json")).unwrap();
+    let refusals = [
+        TrainedModel::load(&dir, "theta").unwrap_err(),
+        surrogate::Predictor::load(&dir, "theta").unwrap_err(),
+    ];
+    for error in refusals {
+        assert!(
+            matches!(error, SurrogateError::FeatureMismatch { .. }),
+            "{error:?}"
+        );
+        assert!(
+            error
+                .to_string()
+                .contains("trained on features [J, Delta_v, phi]"),
+            "{error}"
+        );
+    }
+    assert!(TrainedModel::load(&dir, "dv").is_ok());
 }
 
 #[test]

@@ -1,0 +1,69 @@
+//! Refuse-unless-`--force`: nothing a user made is overwritten without being asked for,
+//! and an `--out` of the wrong kind (a file where a directory goes) is named plainly.
+use anyhow::bail;
+use std::path::Path;
+
+/// Fails if `path` exists and `force` is not set; `what` says what the file is and `hint`
+/// what else the user can do (e.g. "choose another --out").
+pub fn refuse_unless_force(path: &Path, force: bool, what: &str, hint: &str) -> anyhow::Result<()> {
+    if !force && path.exists() {
+        bail!(
+            "{} already exists ({what}); --force replaces it, or {hint}",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// Fails if `dir`, given as `--out`, exists and is not a directory.
+pub fn out_dir(dir: &Path) -> anyhow::Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        bail!(
+            "--out {} is an existing file; give a directory (it is created if missing)",
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+/// Fails if `file`, given as `--out`, is an existing directory.
+pub fn out_file(file: &Path) -> anyhow::Result<()> {
+    if file.is_dir() {
+        bail!("--out {} is a directory; give a file name", file.display());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refuses_existing_paths_unless_forced_and_wrong_kinds() {
+        let dir = std::env::temp_dir().join(format!("suspflow-guard-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("f.csv");
+        assert!(refuse_unless_force(&file, false, "a dataset", "choose another --out").is_ok());
+        std::fs::write(&file, "x\n").unwrap();
+        let message = refuse_unless_force(&file, false, "a dataset", "choose another --out")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains(
+                "already exists (a dataset); --force replaces it, or choose another --out"
+            ),
+            "{message}"
+        );
+        assert!(refuse_unless_force(&file, true, "a dataset", "").is_ok());
+        assert!(out_dir(&file)
+            .unwrap_err()
+            .to_string()
+            .contains("is an existing file"));
+        assert!(out_dir(&dir).is_ok() && out_file(&file).is_ok());
+        assert!(out_file(&dir)
+            .unwrap_err()
+            .to_string()
+            .contains("is a directory"));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

@@ -8,6 +8,7 @@ mod cmd_plot;
 mod cmd_predict;
 mod cmd_report;
 mod cmd_simulate;
+mod cmd_solve;
 mod cmd_train;
 mod cmd_validate;
 mod convergence;
@@ -60,6 +61,8 @@ enum Command {
     Train(cmd_train::Args),
     /// Predict a profile with a trained mapping.
     Predict(cmd_predict::Args),
+    /// Predict a scene's steady profile from its forcing alone (momentum balance + closure).
+    Solve(cmd_solve::Args),
     /// Measure the trained mappings on unseen flow profiles; write the figures.
     Validate(cmd_validate::Args),
     /// Time loading a model, reading a 50-bin profile and predicting it.
@@ -90,6 +93,7 @@ fn main() -> anyhow::Result<()> {
         Command::Bench(args) => cmd_bench::run(args),
         Command::Train(args) => cmd_train::run(args),
         Command::Predict(args) => cmd_predict::run(args),
+        Command::Solve(args) => cmd_solve::run(args),
         Command::Validate(args) => cmd_validate::run(args),
         Command::BenchPredict(args) => cmd_bench_predict::run(args),
     }

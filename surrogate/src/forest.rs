@@ -152,6 +152,19 @@ impl Forest {
         Ok(predicted)
     }
 
+    /// The expected prediction of each output when feature `i` of `x` is spread uniformly
+    /// over `[x_i - half_width_i, x_i + half_width_i]` (a half-width of 0 is a sharp value):
+    /// each split sends the fraction of the interval below its threshold left and the rest
+    /// right. Unlike [`Forest::predict`], which is piecewise constant, this is continuous in
+    /// `x` wherever every half-width is positive, so a Newton solver can differentiate it.
+    pub fn expected(&self, x: &[f64], half_width: &[f64]) -> Vec<f64> {
+        let mut sums: Vec<f64> = self.base_score.iter().map(|&b| f64::from(b)).collect();
+        for tree in &self.trees {
+            sums[tree.output] += tree.expected(0, x, half_width);
+        }
+        sums
+    }
+
     /// XGBoost's "gain" importance of each feature, in feature order: the average loss
     /// reduction of the splits on that feature over all trees (0 for a feature never split on).
     pub fn feature_importance_gain(&self) -> Vec<f64> {
@@ -172,6 +185,37 @@ impl Forest {
 }
 
 impl Tree {
+    /// Expected leaf value below `node` for features spread as in [`Forest::expected`].
+    fn expected(&self, node: usize, x: &[f64], half_width: &[f64]) -> f64 {
+        match self.nodes[node] {
+            Node::Leaf { value } => f64::from(value),
+            Node::Split {
+                feature,
+                threshold,
+                left,
+                right,
+                ..
+            } => {
+                let (v, h, t) = (x[feature], half_width[feature], f64::from(threshold));
+                let below = if h > 0.0 {
+                    ((t - (v - h)) / (2.0 * h)).clamp(0.0, 1.0)
+                } else if (v as f32) < threshold {
+                    1.0
+                } else {
+                    0.0
+                };
+                let mut sum = 0.0;
+                if below > 0.0 {
+                    sum += below * self.expected(left, x, half_width);
+                }
+                if below < 1.0 {
+                    sum += (1.0 - below) * self.expected(right, x, half_width);
+                }
+                sum
+            }
+        }
+    }
+
     /// Checks and converts one tree's node arrays; the error says what is wrong.
     fn from_json(
         tree: &TreeJson,

@@ -53,6 +53,20 @@ impl Predictor {
         self.domain.check(self.meta.feature_matrix(dataset)?.view())
     }
 
+    /// The expected prediction in original units for one row `x` (features in
+    /// [`ModelMeta::features`] order) when each feature is spread uniformly over `x_i +-
+    /// half_width_i` (see [`Forest::expected`]): continuous in `x`, for solvers.
+    pub fn expected_outputs(&self, x: &[f64], half_width: &[f64]) -> Result<Vec<f64>> {
+        let scaled = ndarray::Array2::from_shape_vec(
+            (1, self.meta.outputs.len()),
+            self.forest.expected(x, half_width),
+        )
+        .map_err(|e| crate::error::SurrogateError::InvalidArgument(e.to_string()))?;
+        let features = ndarray::ArrayView2::from_shape((1, x.len()), x)
+            .map_err(|e| crate::error::SurrogateError::InvalidArgument(e.to_string()))?;
+        Ok(self.meta.outputs(features, scaled.view())?.row(0).to_vec())
+    }
+
     /// Predictions in original units (rows x outputs) for the feature columns of `dataset`.
     pub fn predict(&self, dataset: &Dataset) -> Result<Array2<f64>> {
         self.predict_features(self.meta.feature_matrix(dataset)?.view())

@@ -4,6 +4,8 @@
 //! Writes `DIR/profile.csv` (the dataset's columns that the solve determines; no standard
 //! errors) and `DIR/summary.json`; `--compare FILE.csv` puts a simulated profile of the same
 //! scene beside the solutions of both closures.
+use crate::output_guard;
+use crate::plot::{profile_panels, Panel, Series};
 use anyhow::{bail, Context};
 use ndarray::Array2;
 use serde::Serialize;
@@ -70,12 +72,13 @@ struct Summary<'a> {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let scene = Scene::from_path(&args.scene, false)?;
     let profile_csv = args.out.join("profile.csv");
-    if profile_csv.exists() && !args.force {
-        bail!(
-            "{} exists: pass --force to replace it, or choose another --out",
-            profile_csv.display()
-        );
-    }
+    output_guard::out_dir(&args.out)?;
+    output_guard::refuse_unless_force(
+        &profile_csv,
+        args.force,
+        "an earlier solution",
+        "choose another --out",
+    )?;
     let problem = problem(&scene);
     let predictor = Predictor::load(&args.models, "dv")
         .with_context(|| format!("loading model `dv` from {}", args.models.display()))?;
@@ -127,18 +130,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         profile_csv.display()
     );
     if let Some(path) = &args.compare {
-        let other = match args.closure {
-            ClosureKind::Learned => (ClosureKind::Local, problem.solve(&law, START_PRESSURE)?),
+        let (other, other_solution) = match args.closure {
+            ClosureKind::Learned => (ClosureKind::Local, problem.solve(&law, START_PRESSURE)),
             ClosureKind::Local => (
                 ClosureKind::Learned,
-                problem.solve(&learned, START_PRESSURE)?,
+                problem.solve(&learned, START_PRESSURE),
             ),
         };
-        compare(
-            path,
-            &scene,
-            &[(args.closure, &solution), (other.0, &other.1)],
-        )?;
+        let mut solutions = vec![(args.closure, &solution)];
+        match &other_solution {
+            Ok(s) => solutions.push((other, s)),
+            Err(e) => println!("{other:?} closure left out of the comparison: {e}"),
+        }
+        compare(path, &args.out, &scene, &problem, &solutions)?;
     }
     Ok(())
 }
@@ -223,10 +227,13 @@ fn write_profile(
 }
 
 /// Relative L2 errors of u, phi_loc and mu of each solution against the simulated rows of
-/// the scene in `path`.
+/// the scene in `path`, printed, and the figure `compare.svg` in `out`: the three along y,
+/// simulated (one standard error bars where the file has them) and solved.
 fn compare(
     path: &Path,
+    out: &Path,
     scene: &Scene,
+    problem: &ProfileProblem,
     solutions: &[(ClosureKind, &ProfileSolution)],
 ) -> anyhow::Result<()> {
     let data = Dataset::read_csv(path)?;
@@ -243,18 +250,63 @@ fn compare(
             scene.n_bins
         );
     }
+    let y: Vec<f64> = (0..scene.n_bins)
+        .map(|k| (k as f64 + 0.5) * problem.bin_width)
+        .collect();
     println!("against {} (relative L2 error, unscaled):", path.display());
     println!("  {:<8} {:>8} {:>8} {:>8}", "closure", "u", "phi_loc", "mu");
-    for (kind, s) in solutions {
-        let mut cells = String::new();
-        for (name, solved) in [("u", &s.u), ("phi_loc", &s.phi_loc), ("mu", &s.mu)] {
-            let c = data.column(name)?;
-            let simulated = Array2::from_shape_fn((rows.len(), 1), |(k, _)| c[rows[k]]);
-            let solved = Array2::from_shape_fn((rows.len(), 1), |(k, _)| solved[k]);
-            let error = relative_l2_error(simulated.view(), solved.view())?[0];
-            cells += &format!(" {:>7.2}%", 100.0 * error);
+    let mut panels = Vec::new();
+    let mut lines: Vec<String> = solutions
+        .iter()
+        .map(|(kind, _)| format!("  {:<8}", format!("{kind:?}").to_lowercase()))
+        .collect();
+    for name in ["u", "phi_loc", "mu"] {
+        let c = data.column(name)?;
+        let simulated = Array2::from_shape_fn((rows.len(), 1), |(k, _)| c[rows[k]]);
+        let se_name = format!("{name}_se");
+        let errors = match data.column(&se_name) {
+            Ok(se) => Some(rows.iter().map(|&r| se[r]).collect()),
+            Err(_) => None,
+        };
+        let mut series = vec![Series {
+            name: "simulated".to_owned(),
+            points: rows.iter().zip(&y).map(|(&r, &y)| (y, c[r])).collect(),
+            errors,
+        }];
+        for ((kind, s), line) in solutions.iter().zip(&mut lines) {
+            let solved = solved_column(s, name);
+            let column = Array2::from_shape_fn((rows.len(), 1), |(k, _)| solved[k]);
+            let error = relative_l2_error(simulated.view(), column.view())?[0];
+            *line += &format!(" {:>7.2}%", 100.0 * error);
+            series.push(Series {
+                name: format!("solved, {} closure", format!("{kind:?}").to_lowercase()),
+                points: y.iter().copied().zip(solved.iter().copied()).collect(),
+                errors: None,
+            });
         }
-        println!("  {:<8}{cells}", format!("{kind:?}").to_lowercase());
+        panels.push(Panel {
+            quantity: name.to_owned(),
+            series,
+        });
     }
+    for line in lines {
+        println!("{line}");
+    }
+    let figure = out.join("compare.svg");
+    let title = format!(
+        "{}: u_inf = {}, L_y = {}, phi = {}",
+        scene.file.name, scene.file.fluid.profile, scene.file.box_.l_y, scene.file.particles.phi
+    );
+    profile_panels(&figure, &title, &panels)?;
+    println!("figure: {}", figure.display());
     Ok(())
+}
+
+/// The solved values of observable `name` (u, phi_loc or mu).
+fn solved_column<'a>(s: &'a ProfileSolution, name: &str) -> &'a [f64] {
+    match name {
+        "u" => &s.u,
+        "phi_loc" => &s.phi_loc,
+        _ => &s.mu,
+    }
 }

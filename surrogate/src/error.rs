@@ -87,11 +87,15 @@ pub enum SurrogateError {
 
     /// The profile solver stopped before its residual reached the tolerance.
     #[error(
-        "the profile solve did not converge: largest scaled residual {residual:.3e} after \
-         {iterations} Newton iterations (tolerance {tolerance:.0e})",
+        "the profile solve did not converge: {reason}; largest scaled residual {residual:.3e} \
+         after {iterations} Newton iterations (tolerance {tolerance:.0e})",
         tolerance = crate::profile_solver::TOLERANCE
     )]
-    NotConverged { iterations: usize, residual: f64 },
+    NotConverged {
+        reason: String,
+        iterations: usize,
+        residual: f64,
+    },
 
     /// The XGBoost library reported an error; the message is the library's own.
     #[error("XGBoost: {0}")]

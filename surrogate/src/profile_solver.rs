@@ -312,18 +312,23 @@ impl ProfileProblem {
         while norm(&r) > TOLERANCE {
             if iterations == MAX_ITERATIONS {
                 return Err(SurrogateError::NotConverged {
+                    reason: format!("{MAX_ITERATIONS} iterations were not enough"),
                     iterations,
                     residual: norm(&r),
                 });
             }
             iterations += 1;
             let (_, jac) = self.linearise(closure, &x, floor, true)?;
-            let step =
-                jac.and_then(|j| j.lu().solve(&(-&r)))
-                    .ok_or(SurrogateError::NotConverged {
-                        iterations,
-                        residual: norm(&r),
-                    })?;
+            let step = jac.and_then(|j| j.lu().solve(&(-&r))).ok_or_else(|| {
+                SurrogateError::NotConverged {
+                    reason: "the Jacobian is singular: the closure does not change with the \
+                             local state here, as trees do beyond their training range \
+                             (try --closure local)"
+                        .to_owned(),
+                    iterations,
+                    residual: norm(&r),
+                }
+            })?;
             // Backtracking: halve the step until the residual falls.
             let mut t = 1.0;
             loop {

@@ -1,0 +1,135 @@
+//! End-to-end `suspflow solve`: a scene's profile from its forcing alone, with the shipped
+//! models.
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn suspflow(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_suspflow"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("runs suspflow")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("suspflow-solve-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// Column `name` of a CSV file without quoted commas.
+fn column(text: &str, name: &str) -> Vec<f64> {
+    let mut lines = text.lines();
+    let index = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|c| c == name)
+        .unwrap();
+    lines
+        .map(|l| l.split(',').nth(index).unwrap().parse().unwrap())
+        .collect()
+}
+
+/// A scene like the training scenes (phi 0.54, L_y 50, `0.1 sin(2 pi y / L)`), 25 bins.
+const TRAINING_LIKE: &str = "name = \"like_train\"\n[box]\nl_x = 17.0\nl_y = 50.0\nl_z = 17.0\n\
+     [particles]\nphi = 0.54\n[fluid]\nprofile = \"0.1*sin(2*pi*y/L)\"\n";
+
+#[test]
+fn solve_writes_a_profile_whose_phi_loc_averages_to_phi_and_keeps_earlier_ones() {
+    let out = scratch("like-train");
+    std::fs::create_dir_all(&out).unwrap();
+    let scene = out.join("scene.toml");
+    std::fs::write(&scene, TRAINING_LIKE).unwrap();
+    let solution = out.join("solution");
+    for closure in ["learned", "local"] {
+        let result = suspflow(&[
+            "solve",
+            s(&scene),
+            "--models",
+            "models",
+            "--closure",
+            closure,
+            "--out",
+            s(&solution),
+            "--force",
+        ]);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert!(result.status.success(), "{closure}: {stderr}");
+        let text = std::fs::read_to_string(solution.join("profile.csv")).unwrap();
+        let phi_loc = column(&text, "phi_loc");
+        assert_eq!(phi_loc.len(), 25);
+        let mean = phi_loc.iter().sum::<f64>() / phi_loc.len() as f64;
+        assert!((mean - 0.54).abs() < 1e-6, "{closure}: mean phi_loc {mean}");
+        // The drag on the particles sums to zero over the period (the balance telescopes).
+        let f_x = column(&text, "f_x");
+        let total: f64 = f_x.iter().sum();
+        let scale: f64 = f_x.iter().map(|f| f.abs()).sum();
+        assert!(
+            total.abs() < 1e-6 * scale,
+            "{closure}: net drag {total} of {scale}"
+        );
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(solution.join("summary.json")).unwrap())
+                .unwrap();
+        assert_eq!(summary["closure"], closure);
+        assert!(summary["residual"].as_f64().unwrap() <= 1e-9);
+    }
+    // Without --force an earlier solution stays.
+    let again = suspflow(&["solve", s(&scene), "--out", s(&solution)]);
+    assert!(!again.status.success());
+    assert!(String::from_utf8_lossy(&again.stderr).contains("--force"));
+    std::fs::remove_dir_all(&out).ok();
+}
+
+#[test]
+fn compare_needs_the_scene_in_the_simulated_file() {
+    let out = scratch("compare");
+    let result = suspflow(&[
+        "solve",
+        "scenes/quick.toml",
+        "--closure",
+        "local",
+        "--out",
+        s(&out),
+        "--compare",
+        "datasets/validate.csv",
+    ]);
+    assert!(!result.status.success());
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(stderr.contains("holds 0 rows of scene `quick`"), "{stderr}");
+    std::fs::remove_dir_all(&out).ok();
+}
+
+#[test]
+fn a_flow_beyond_the_trees_range_is_refused_not_half_solved() {
+    // scenes/quick.toml: amplitude 0.2 in a box 20 high, eight times the training shear.
+    let out = scratch("quick");
+    let result = suspflow(&["solve", "scenes/quick.toml", "--out", s(&out)]);
+    assert!(!result.status.success());
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        stderr.contains("did not converge") && stderr.contains("training range"),
+        "{stderr}"
+    );
+    assert!(!out.join("profile.csv").exists());
+    // The local rheology extrapolates.
+    let result = suspflow(&[
+        "solve",
+        "scenes/quick.toml",
+        "--closure",
+        "local",
+        "--out",
+        s(&out),
+    ]);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    std::fs::remove_dir_all(&out).ok();
+}

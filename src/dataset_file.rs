@@ -1,4 +1,4 @@
-//! Dataset CSV files (SPEC section 8): one header line, then one line per bin per scene.
+//! Dataset CSV files (docs/physics.md section 8): one header line, then one line per bin per scene.
 //!
 //! Lines are checked as they are read (field count, numbers where numbers belong, one
 //! scene's lines together) and copied byte for byte, so that assembling per-scene parts,
@@ -29,7 +29,7 @@ impl DatasetFile {
     }
 
     /// Parses dataset text; see [`DatasetFile::read`]. A leading UTF-8 byte-order mark is
-    /// dropped; scene ids must follow the safe-name rule (`sim::scene_name`), standard
+    /// dropped; scene ids must follow the safe-name rule (`sim::input::scene_name`), standard
     /// errors (`*_se`) must not be negative.
     pub fn parse(text: &str) -> anyhow::Result<DatasetFile> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
@@ -78,7 +78,7 @@ impl DatasetFile {
                 }
             }
             let id = cells[id_column].clone();
-            sim::scene_name::check(&id)
+            sim::input::scene_name::check(&id)
                 .map_err(|m| anyhow::anyhow!("line {number}, column `scene_id`: {m}"))?;
             if last_id.as_ref() != Some(&id) && scenes.contains_key(&id) {
                 bail!("line {number}: scene `{id}` appears again after other scenes (duplicated or interleaved rows)");

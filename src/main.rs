@@ -1,31 +1,6 @@
-//! `suspflow`: dense-suspension rheology under inhomogeneous flow.
-mod cmd_bench;
-mod cmd_bench_predict;
-mod cmd_compare;
-mod cmd_generate;
-mod cmd_merge;
-mod cmd_plot;
-mod cmd_predict;
-mod cmd_report;
-mod cmd_simulate;
-mod cmd_solve;
-mod cmd_train;
-mod cmd_validate;
-mod convergence;
-mod convergence_report;
-mod dataset_file;
-mod descriptor_noise;
-mod file_lock;
-mod loglog_plot;
-mod output_guard;
-mod plot;
-mod report;
-mod scene_work;
-mod side_by_side;
-mod stability_map;
-mod stability_sweep;
-mod surrogate_cost;
-mod training_overlap;
+//! `suspflow`: dense-suspension rheology under inhomogeneous flow. The command line only:
+//! each command lives in `suspflow::commands`.
+use suspflow::commands;
 
 use clap::{Parser, Subcommand};
 
@@ -43,38 +18,30 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Simulate a scene to its steady state and write the binned profile.
-    Simulate(cmd_simulate::Args),
+    Simulate(commands::simulate::Args),
     /// Run every scene of a grid (resumably, in parallel) into one dataset.
-    Generate(cmd_generate::Args),
+    Generate(commands::generate::Args),
     /// Combine datasets of distinct scenes (e.g. the shards of a grid) into one.
-    Merge(cmd_merge::Args),
+    Merge(commands::merge::Args),
     /// Plot every scene of a dataset along y (u, phi_loc, mu, J, Theta, Delta_v) as SVG.
-    Plot(cmd_plot::Args),
+    Plot(commands::plot::Args),
     /// Write a report (reports/<name>/report.md): simulation and surrogate error against run time,
     /// side by side, stability on stiff and extreme cases, Theta against Delta_v.
-    Report(cmd_report::Args),
+    Report(commands::report::Args),
     /// Compare two binned profiles: squared z-scores and relative differences per observable.
-    Compare(cmd_compare::Args),
+    Compare(commands::compare::Args),
     /// Measure particle-steps per second of the force + integration loop.
-    Bench(cmd_bench::Args),
+    Bench(commands::bench::Args),
     /// Train the surrogate mappings on a dataset.
-    Train(cmd_train::Args),
+    Train(commands::train::Args),
     /// Predict a profile with a trained mapping.
-    Predict(cmd_predict::Args),
+    Predict(commands::predict::Args),
     /// Predict a scene's steady profile from its forcing alone (momentum balance + closure).
-    Solve(cmd_solve::Args),
+    Solve(commands::solve::Args),
     /// Measure the trained mappings on unseen flow profiles; write the figures.
-    Validate(cmd_validate::Args),
+    Validate(commands::validate::Args),
     /// Time loading a model, reading a 50-bin profile and predicting it.
-    BenchPredict(cmd_bench_predict::Args),
-}
-
-/// Runs `f` on a pool of `threads` threads (0 = all cores).
-pub fn with_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> anyhow::Result<T> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()?;
-    Ok(pool.install(f))
+    BenchPredict(commands::bench_predict::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -84,17 +51,17 @@ fn main() -> anyhow::Result<()> {
         std::env::set_var("OMP_WAIT_POLICY", "PASSIVE");
     }
     match Cli::parse().command {
-        Command::Simulate(args) => cmd_simulate::run(args),
-        Command::Generate(args) => cmd_generate::run(args),
-        Command::Merge(args) => cmd_merge::run(args),
-        Command::Plot(args) => cmd_plot::run(args),
-        Command::Report(args) => cmd_report::run(args),
-        Command::Compare(args) => cmd_compare::run(args),
-        Command::Bench(args) => cmd_bench::run(args),
-        Command::Train(args) => cmd_train::run(args),
-        Command::Predict(args) => cmd_predict::run(args),
-        Command::Solve(args) => cmd_solve::run(args),
-        Command::Validate(args) => cmd_validate::run(args),
-        Command::BenchPredict(args) => cmd_bench_predict::run(args),
+        Command::Simulate(args) => commands::simulate::run(args),
+        Command::Generate(args) => commands::generate::run(args),
+        Command::Merge(args) => commands::merge::run(args),
+        Command::Plot(args) => commands::plot::run(args),
+        Command::Report(args) => commands::report::run(args),
+        Command::Compare(args) => commands::compare::run(args),
+        Command::Bench(args) => commands::bench::run(args),
+        Command::Train(args) => commands::train::run(args),
+        Command::Predict(args) => commands::predict::run(args),
+        Command::Solve(args) => commands::solve::run(args),
+        Command::Validate(args) => commands::validate::run(args),
+        Command::BenchPredict(args) => commands::bench_predict::run(args),
     }
 }

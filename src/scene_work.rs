@@ -3,7 +3,7 @@
 //! (`profile.csv`, `summary.json`, as `simulate` writes them) or `failed.txt` with the reason.
 //! The files say where each scene is, so a re-run continues where the last one stopped.
 use anyhow::{bail, Context};
-use sim::scene::SceneFile;
+use sim::input::scene::SceneFile;
 use std::path::{Path, PathBuf};
 
 /// Where a scene is.
@@ -41,7 +41,10 @@ impl SceneWork {
                 path.display()
             ),
             Ok(_) => Ok(()),
-            Err(_) => Ok(sim::checkpoint::write_atomic(&path, text.as_bytes())?),
+            Err(_) => Ok(sim::output::checkpoint::write_atomic(
+                &path,
+                text.as_bytes(),
+            )?),
         }
     }
 
@@ -68,7 +71,7 @@ impl SceneWork {
 
     /// Records a failure (its reason) and drops the checkpoint.
     pub fn record_failure(&self, reason: &str) -> anyhow::Result<()> {
-        sim::checkpoint::write_atomic(
+        sim::output::checkpoint::write_atomic(
             &self.dir.join("failed.txt"),
             format!("{reason}\n").as_bytes(),
         )?;

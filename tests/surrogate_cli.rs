@@ -49,7 +49,7 @@ fn s(path: &Path) -> &str {
     path.to_str().unwrap()
 }
 
-/// The simulator's `profile.csv` columns (SPEC section 8), in its order.
+/// The simulator's `profile.csv` columns (docs/physics.md section 8), in its order.
 const HEADER: &str =
     "scene_id,profile,L_y,phi,seed,y,u_inf,u,u_se,gdot,gdot_se,sigma_xy,sigma_xy_se,P,P_se,\
 phi_loc,phi_loc_se,J,J_se,mu,mu_se,Theta,Theta_se,Delta_v,Delta_v_se,f_x,f_x_se,count,count_se";
@@ -93,7 +93,7 @@ fn training_scenes(n: usize, bins: usize) -> Vec<Scene> {
         .collect()
 }
 
-/// The two validation profiles of SPEC section 8.
+/// The two validation profiles of docs/physics.md section 8.
 fn validation_scenes(bins: usize) -> Vec<Scene> {
     vec![
         Scene {

@@ -1,44 +1,34 @@
 //! Particle simulator for dense non-Brownian suspensions under inhomogeneous flow.
-//! Physics: `../shared/SPEC.md`; equation numbers are the thesis' (chapters 3 and 6).
+//! Physics: `docs/physics.md` in the repository; equation numbers are the thesis' (chapters
+//! 3 and 6).
 //!
-//! Data flow: [`scene::Scene`] -> [`run::initial_particles`] -> [`simulation::Simulation`]
-//! (neighbours, pair laws, one-body laws, velocity Verlet) -> [`snapshot`] sums ->
-//! [`profile::Profile`] -> [`output`].
+//! Data flow, one folder per stage: [`input`] (scene file -> [`Scene`], grids of scenes, the
+//! flow profile u_inf(y), the initial packing) -> [`neighbours`] (cell and Verlet lists) ->
+//! [`forces`] (contact, drag, lubrication, summed over the list) -> [`integrate`] (the
+//! [`Simulation`] and its time step) -> [`sampling`] (bins, snapshot sums, [`BinAverages`],
+//! steady state) -> [`output`] (tables, summary, frames, checkpoints); [`run`] drives a scene
+//! from start to its averaged steady state.
 
 /// Small 3-vectors (units of a, a/time, ...).
 pub type Vec3 = nalgebra::Vector3<f64>;
 
-pub mod binning;
-pub mod block_sums;
-pub mod cell_list;
-pub mod checkpoint;
-pub mod contact;
-pub mod drag;
 pub mod error;
-pub mod flow_profile;
-pub mod force_accumulation;
-pub mod force_field;
-pub mod grid;
-pub mod lubrication;
-pub mod memory_estimate;
+pub mod forces;
+pub mod input;
+pub mod integrate;
+pub mod neighbours;
 pub mod output;
-pub mod packing;
-pub mod pair_load;
-pub mod particles;
-pub mod periodic_box;
-pub mod profile;
-pub mod profile_syntax;
 pub mod run;
-pub mod scene;
-pub mod scene_name;
-pub mod simulation;
-pub mod snapshot;
-pub mod stage_timers;
-pub mod steady_state;
-pub mod timestep;
-pub mod verlet_list;
+pub mod sampling;
 
 pub use error::SimError;
+pub use input::flow_profile::FlowProfile;
+pub use input::grid::{Grid, GridScene};
+pub use input::scene::{Scene, SceneFile};
+pub use integrate::simulation::Simulation;
+pub use integrate::timestep::{DtLimit, TimeStep};
+pub use run::{RunOptions, RunOutcome, RunSummary};
+pub use sampling::bin_averages::BinAverages;
 
 /// Version of the code that produced a result: package version, commit, and `-dirty` when
 /// the working tree had uncommitted changes at build time (see `build.rs`).

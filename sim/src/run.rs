@@ -1,19 +1,19 @@
-//! A whole run (SPEC section 7): initial packing, equilibration until the binned
+//! A whole run (docs/physics.md section 7): initial packing, equilibration until the binned
 //! profiles stop drifting, averaging over the requested snapshots, with checkpoints
 //! that a resumed run continues from bit for bit.
-use crate::binning::Bins;
-use crate::block_sums::BlockSums;
-use crate::checkpoint;
 use crate::error::SimError;
-use crate::packing::random_packing;
-use crate::particles::Particles;
-use crate::profile::{Profile, ProfileContext};
-use crate::scene::{Scene, SceneFile};
-use crate::simulation::{Simulation, SystemState};
-use crate::snapshot;
-use crate::stage_timers::Stage;
-use crate::steady_state::{Drift, SteadyState};
-use crate::timestep::TimeStep;
+use crate::input::packing::random_packing;
+use crate::input::scene::{Scene, SceneFile};
+use crate::integrate::particles::Particles;
+use crate::integrate::simulation::{Simulation, SystemState};
+use crate::integrate::stage_timers::Stage;
+use crate::integrate::timestep::TimeStep;
+use crate::output::checkpoint;
+use crate::sampling::bin_averages::{BinAverages, BinningContext};
+use crate::sampling::binning::Bins;
+use crate::sampling::block_sums::BlockSums;
+use crate::sampling::snapshot;
+use crate::sampling::steady_state::{Drift, SteadyState};
 use crate::Vec3;
 use rand::SeedableRng;
 use serde::{Deserialize, Serialize};
@@ -114,7 +114,7 @@ pub struct RunSummary {
     /// Largest overlap ratio seen at a steady snapshot (overlap / smaller radius).
     pub max_overlap: f64,
     pub list_builds: u64,
-    pub timers: crate::stage_timers::StageTimers,
+    pub timers: crate::integrate::stage_timers::StageTimers,
     pub threads: usize,
     pub undefined_bins: Vec<usize>,
     pub warnings: Vec<String>,
@@ -124,16 +124,16 @@ pub struct RunSummary {
 
 /// Result of a completed run.
 pub struct RunOutcome {
-    pub profile: Profile,
+    pub profile: BinAverages,
     pub summary: RunSummary,
 }
 
 /// Constants turning snapshot sums of `scene` into observables.
-pub fn profile_context(scene: &Scene) -> ProfileContext {
+pub fn binning_context(scene: &Scene) -> BinningContext {
     let [l_x, _, l_z] = scene.box_len;
     let w = scene.file.run.bin_width;
     let bins = Bins::new(w, scene.n_bins);
-    ProfileContext {
+    BinningContext {
         bins,
         bin_volume: l_x * w * l_z,
         face_area: l_x * l_z,
@@ -226,7 +226,7 @@ pub fn run(
             fresh_state(scene),
         ),
     };
-    let ctx = profile_context(scene);
+    let ctx = binning_context(scene);
     let r = &scene.file.run;
     let gdot = scene.gdot_max();
     let steps_per_sample = ((r.sample_strain / (gdot * sim.timestep.dt)).round() as u64).max(1);
@@ -308,7 +308,7 @@ pub fn run(
             return Err(SimError::Interrupted { step: sim.step });
         }
     }
-    let profile = Profile::from_blocks(&ctx, &st.averaging)?;
+    let profile = BinAverages::from_blocks(&ctx, &st.averaging)?;
     let wall_s = wall_before + started.elapsed().as_secs_f64();
     let mut warnings = scene.warnings.clone();
     let undefined_bins = profile.undefined_bins();

@@ -1,5 +1,5 @@
-//! Exact slab volumes and the method-of-planes shares (SPEC section 6).
-use sim::binning::Bins;
+//! Exact slab volumes and the method-of-planes shares (docs/physics.md section 6).
+use sim::sampling::binning::Bins;
 use std::f64::consts::PI;
 
 #[test]

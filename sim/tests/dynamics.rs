@@ -1,10 +1,10 @@
-//! SPEC section 9 invariants on the real force loop and integrator: equal and opposite
+//! docs/physics.md section 9 invariants on the real force loop and integrator: equal and opposite
 //! pair forces, the squeeze velocity F / X11A, and the analytic drag relaxation.
 use rand::{Rng, SeedableRng};
-use sim::lubrication::LubricationCoefficients;
-use sim::particles::Particles;
-use sim::scene::Scene;
-use sim::simulation::Simulation;
+use sim::forces::lubrication::LubricationCoefficients;
+use sim::input::scene::Scene;
+use sim::integrate::particles::Particles;
+use sim::integrate::simulation::Simulation;
 use sim::Vec3;
 use std::f64::consts::PI;
 
@@ -118,7 +118,7 @@ fn approaching_spheres_reach_the_squeeze_velocity() {
         for _ in 0..400 {
             s.advance(50).unwrap();
             let r = s.particles.pos[second] - s.particles.pos[first];
-            let xi = sim::lubrication::gap(r.norm(), a_i, a_j);
+            let xi = sim::forces::lubrication::gap(r.norm(), a_i, a_j);
             if xi < 0.003 {
                 break;
             }

@@ -1,6 +1,6 @@
 //! Grid expansion: the Cartesian product of [vary] times the [[cases]], in the documented
 //! order, with every scene validated and named so that ids sort in grid order.
-use sim::grid::Grid;
+use sim::input::grid::Grid;
 
 const BASE: &str = r#"
 name = "g"

@@ -1,7 +1,7 @@
-//! SPEC section 9 invariants of the lubrication law: purely dissipative, blind to rigid
+//! docs/physics.md section 9 invariants of the lubrication law: purely dissipative, blind to rigid
 //! motion to leading order in xi, and conserving angular momentum to that order.
 use rand::{Rng, SeedableRng};
-use sim::lubrication::LubricationCoefficients;
+use sim::forces::lubrication::LubricationCoefficients;
 use sim::Vec3;
 
 const BETAS: [f64; 3] = [1.0, 1.4, 1.0 / 1.4];
@@ -115,7 +115,7 @@ fn rigid_motion_feels_no_lubrication_to_leading_order() {
 #[test]
 fn flipped_b_terms_break_objectivity() {
     // The rigid-rotation test above is the one that catches a sign slip in Y11B, Y21B
-    // (SPEC section 4): with them flipped the residual is of order 2, not O(xi).
+    // (docs/physics.md section 4): with them flipped the residual is of order 2, not O(xi).
     let mut c = LubricationCoefficients::new(1.0, 1.4, 1.0, XI_MIN, XI_MAX);
     c.yb11 = -c.yb11;
     c.yb21 = -c.yb21;

@@ -1,11 +1,11 @@
 //! Whole runs on a tiny scene: same seed same output, checkpoint + resume identical,
-//! the steady momentum balance, and phi_loc summing to the global phi (SPEC section 9).
-use sim::binning::Bins;
-use sim::output::profile_rows;
+//! the steady momentum balance, and phi_loc summing to the global phi (docs/physics.md section 9).
+use sim::input::scene::Scene;
+use sim::integrate::simulation::Simulation;
+use sim::output::result_files::profile_rows;
 use sim::run::{initial_particles, run, RunOptions};
-use sim::scene::Scene;
-use sim::simulation::Simulation;
-use sim::snapshot::{self, field};
+use sim::sampling::binning::Bins;
+use sim::sampling::snapshot::{self, field};
 use sim::SimError;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -178,7 +178,7 @@ fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
     file.run.blocks = 2;
     let scene = Scene::from_file(file, false).unwrap();
     let steps_per_sample = (scene.file.run.sample_strain
-        / (scene.gdot_max() * sim::timestep::TimeStep::for_scene(&scene).dt))
+        / (scene.gdot_max() * sim::integrate::timestep::TimeStep::for_scene(&scene).dt))
         .round() as u64;
     assert!(
         steps_per_sample > 1000,

@@ -1,4 +1,4 @@
-//! A CSV dataset (SPEC section 8): one row per bin per simulation, named columns.
+//! A CSV dataset (docs/physics.md section 8): one row per bin per simulation, named columns.
 //!
 //! Every column keeps its text (used for grouping keys such as `scene_id` or `profile`), and
 //! its numbers when every cell parses as one. An empty cell is an undefined value (the

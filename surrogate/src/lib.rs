@@ -1,4 +1,4 @@
-//! Surrogate models of local rheology (SPEC section 8, thesis section 6.2).
+//! Surrogate models of local rheology (docs/physics.md section 8, thesis section 6.2).
 //!
 //! Data flow: a CSV [`Dataset`] (one row per bin per simulation) is seen through a
 //! [`Mapping`] as [`Samples`] (features, outputs, simulation groups); outputs are min-max

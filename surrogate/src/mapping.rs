@@ -1,4 +1,4 @@
-//! The input -> output mappings learnt by the surrogate (SPEC section 8, thesis section 6.2).
+//! The input -> output mappings learnt by the surrogate (docs/physics.md section 8, thesis section 6.2).
 
 use crate::error::{Result, SurrogateError};
 
@@ -13,7 +13,7 @@ pub struct Mapping {
     pub outputs: &'static [&'static str],
 }
 
-/// The three mappings of SPEC section 8.
+/// The three mappings of docs/physics.md section 8.
 pub const MAPPINGS: [Mapping; 3] = [
     // Motivated by the scaling law J/mu = alpha (phi_J - phi_loc)^2 (thesis eq 6.7).
     Mapping {

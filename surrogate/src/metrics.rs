@@ -1,4 +1,4 @@
-//! Accuracy metric of SPEC section 8 (thesis eq 6.6).
+//! Accuracy metric of docs/physics.md section 8 (thesis eq 6.6).
 
 use ndarray::{ArrayView2, Axis};
 

@@ -128,7 +128,7 @@ impl TrainedModel {
             .outputs(features, self.booster.predict(features)?.view())
     }
 
-    /// Relative L2 error of each output on `samples` (SPEC metric, thesis eq 6.6), on outputs
+    /// Relative L2 error of each output on `samples` (thesis eq 6.6), on outputs
     /// scaled with the training set's ranges.
     pub fn evaluate(&self, samples: &Samples) -> Result<Vec<f64>> {
         check_columns(samples, &self.meta.features, &self.meta.outputs)?;

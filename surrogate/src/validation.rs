@@ -22,7 +22,7 @@ pub const IN_DOMAIN: &str = "in domain";
 pub const OUT_OF_DOMAIN: &str = "out of domain";
 
 /// The seeds' validation error for `output` of mapping `mapping` (thesis figures 6.2-6.4, on
-/// the two validation profiles of SPEC section 8 together), as a fraction.
+/// the two validation profiles of docs/physics.md section 8 together), as a fraction.
 pub fn seeds_validation_error(mapping: &str, output: &str) -> Option<f64> {
     const SEEDS: [(&str, &str, f64); 5] = [
         ("mu", "mu", 0.085),

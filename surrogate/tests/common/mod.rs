@@ -1,4 +1,4 @@
-//! Synthetic datasets with the schema of SPEC section 8 and known smooth relations, so that a
+//! Synthetic datasets with the schema of docs/physics.md section 8 and known smooth relations, so that a
 //! working pipeline must reach small errors and a broken one cannot.
 #![allow(dead_code)] // each test file uses a different part
 

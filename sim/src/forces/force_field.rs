@@ -1,0 +1,176 @@
+//! The force terms a scene switches on, with per-species-pair constants precomputed, and
+//! the load of one pair and of one particle (docs/physics.md section 4).
+use crate::forces::contact::ContactLaw;
+use crate::forces::drag;
+use crate::forces::lubrication::{gap, LubricationCoefficients};
+use crate::forces::pair_load::PairLoad;
+use crate::input::flow_profile::FlowProfile;
+use crate::input::scene::Scene;
+use crate::integrate::particles::Particles;
+use crate::integrate::periodic_box::PeriodicBox;
+use crate::Vec3;
+
+/// Constants of one ordered species pair.
+#[derive(Clone, Copy, Debug)]
+pub struct PairConstants {
+    /// `a_i + a_j`: contact distance.
+    pub contact_distance: f64,
+    /// Square of the interaction cut-off (lubrication `xi_max`, or contact).
+    pub reach_squared: f64,
+    /// Lubrication prefactors, when lubrication is on.
+    pub lubrication: Option<LubricationCoefficients>,
+    /// Smaller radius of the pair, the unit of its overlap ratio.
+    pub a_min: f64,
+}
+
+/// A pair interaction's load and geometry.
+#[derive(Clone, Copy, Debug)]
+pub struct PairOutcome {
+    pub load: PairLoad,
+    /// Minimum-image separation `x_j - x_i`.
+    pub r: Vec3,
+    /// Overlap `a_i + a_j - |r|` (negative when apart).
+    pub overlap: f64,
+}
+
+/// Force terms of a scene. A term that is off costs nothing: it is never evaluated.
+#[derive(Clone, Debug)]
+pub struct ForceField {
+    pub eta: f64,
+    pub contact: Option<ContactLaw>,
+    pub drag: bool,
+    n_species: usize,
+    pairs: Vec<PairConstants>,
+    /// Largest pair cut-off.
+    pub max_cutoff: f64,
+}
+
+impl ForceField {
+    /// Force terms and pair constants of a validated scene.
+    pub fn from_scene(scene: &Scene) -> Self {
+        let f = &scene.file.forces;
+        let eta = scene.file.fluid.eta;
+        let radii = &scene.file.particles.radii;
+        let n_species = radii.len();
+        let mut pairs = Vec::with_capacity(n_species * n_species);
+        let mut max_cutoff: f64 = 0.0;
+        for &a_i in radii {
+            for &a_j in radii {
+                let contact_distance = a_i + a_j;
+                let lubrication = f
+                    .lubrication
+                    .then(|| LubricationCoefficients::new(a_i, a_j, eta, f.xi_min, f.xi_max));
+                let reach = if f.lubrication {
+                    contact_distance * (1.0 + 0.5 * f.xi_max)
+                } else {
+                    contact_distance
+                };
+                max_cutoff = max_cutoff.max(reach);
+                pairs.push(PairConstants {
+                    contact_distance,
+                    reach_squared: reach * reach,
+                    lubrication,
+                    a_min: a_i.min(a_j),
+                });
+            }
+        }
+        Self {
+            eta,
+            contact: f.contact.then(|| ContactLaw::new(f.k_n, f.mu_p)),
+            drag: f.drag,
+            n_species,
+            pairs,
+            max_cutoff,
+        }
+    }
+
+    /// Constants of the species pair (s_i, s_j).
+    #[inline]
+    pub fn constants(&self, s_i: u16, s_j: u16) -> &PairConstants {
+        &self.pairs[s_i as usize * self.n_species + s_j as usize]
+    }
+
+    /// Interaction cut-off distance of the species pair.
+    pub fn cutoff(&self, s_i: u16, s_j: u16) -> f64 {
+        self.constants(s_i, s_j).reach_squared.sqrt()
+    }
+
+    /// Whether contacts carry a tangential spring (per-pair history).
+    pub fn frictional(&self) -> bool {
+        self.contact.is_some_and(|c| c.frictional())
+    }
+
+    /// Load of the pair (i, j), or `None` when they are beyond the cut-off. `spring` is
+    /// the pair's tangential contact history (frictional scenes only), advanced by `dt`.
+    #[inline]
+    pub fn pair(
+        &self,
+        p: &Particles,
+        pbox: &PeriodicBox,
+        i: usize,
+        j: usize,
+        spring: Option<&mut Vec3>,
+        dt: f64,
+    ) -> Option<PairOutcome> {
+        let c = self.constants(p.species[i], p.species[j]);
+        let r = pbox.separation(&p.pos[i], &p.pos[j]);
+        let d2 = r.norm_squared();
+        if d2 >= c.reach_squared {
+            if let Some(s) = spring {
+                *s = Vec3::zeros();
+            }
+            return None;
+        }
+        let d = d2.sqrt();
+        let n = r / d;
+        let overlap = c.contact_distance - d;
+        let dv = p.vel[j] - p.vel[i];
+        let mut load = PairLoad::default();
+        if let Some(lub) = &c.lubrication {
+            load = lub.load(
+                gap(d, p.radius[i], p.radius[j]),
+                &n,
+                &dv,
+                &p.omega[i],
+                &p.omega[j],
+            );
+        }
+        if let Some(contact) = &self.contact {
+            if overlap > 0.0 {
+                load.force_i += contact.normal(overlap, &n);
+                if let Some(s) = spring {
+                    let t = contact.tangential(
+                        s,
+                        overlap,
+                        &n,
+                        &dv,
+                        &p.omega[i],
+                        &p.omega[j],
+                        p.radius[i],
+                        p.radius[j],
+                        dt,
+                    );
+                    load.add(&t);
+                }
+            } else if let Some(s) = spring {
+                *s = Vec3::zeros();
+            }
+        }
+        Some(PairOutcome { load, r, overlap })
+    }
+
+    /// One-body load of particle i: Stokes drag and rotational drag towards the local
+    /// streaming flow (3.5, 3.6); zero when drag is off.
+    #[inline]
+    pub fn one_body(&self, p: &Particles, profile: &FlowProfile, i: usize) -> (Vec3, Vec3) {
+        if !self.drag {
+            return (Vec3::zeros(), Vec3::zeros());
+        }
+        let (u, du_dy) = profile.u_and_slope(p.pos[i].y);
+        let a = p.radius[i];
+        (
+            drag::force(self.eta, a, u, &p.vel[i]),
+            drag::torque(self.eta, a, du_dy, &p.omega[i]),
+        )
+    }
+}

@@ -1,0 +1,9 @@
+//! The force laws (docs/physics.md, section Forces): contact springs, Stokes drag,
+//! Kim-Karrila lubrication, and their accumulation over the neighbour list.
+
+pub mod contact;
+pub mod drag;
+pub mod force_accumulation;
+pub mod force_field;
+pub mod lubrication;
+pub mod pair_load;

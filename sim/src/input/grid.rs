@@ -1,0 +1,193 @@
+//! Grid files (TOML): a set of scenes for `suspflow generate`, written as fixed scene
+//! settings plus the fields that vary.
+//!
+//! ```toml
+//! name = "train"                 # prefix of the scene ids
+//! [scene]                        # any scene-file field, fixed for every scene
+//! box = { l_x = 17.0, l_z = 17.0 }
+//! fluid = { profile = "0.1*sin(2*pi*y/L)" }
+//! [vary]                         # Cartesian product over these lists
+//! "particles.phi" = [0.50, 0.52]
+//! "box.l_y" = [50.0, 100.0]
+//! [[cases]]                      # optional: fields that change together, one table per case
+//! "fluid.profile" = "0.1*sin(2*pi*y/L)^3"
+//! "box.l_y" = 100.0
+//! ```
+//!
+//! Scenes are numbered cases first, then the `vary` keys in alphabetical order with the
+//! last key varying fastest; scene `k` is named `<name>_<k>` with `k` zero-padded, so that
+//! sorting ids sorts scenes in grid order.
+use crate::error::SimError;
+use crate::input::scene::{Scene, SceneFile};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+use toml::{Table, Value};
+
+/// A grid file as written.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GridFile {
+    name: String,
+    #[serde(default)]
+    scene: Table,
+    #[serde(default)]
+    vary: BTreeMap<String, Value>,
+    #[serde(default)]
+    cases: Vec<BTreeMap<String, Value>>,
+}
+
+/// One scene of a grid, validated.
+#[derive(Clone, Debug)]
+pub struct GridScene {
+    /// Position in the grid (0-based).
+    pub index: usize,
+    /// `<grid name>_<index>`, also the scene's `name`.
+    pub id: String,
+    pub scene: Scene,
+}
+
+/// An expanded grid.
+#[derive(Clone, Debug)]
+pub struct Grid {
+    pub name: String,
+    pub scenes: Vec<GridScene>,
+}
+
+fn grid_error(message: impl Into<String>) -> SimError {
+    SimError::Grid(message.into())
+}
+
+/// Sets the dotted scene field `path` (e.g. `particles.phi`) in `table`.
+fn set_field(table: &mut Table, path: &str, value: Value) -> Result<(), SimError> {
+    let mut keys = path.split('.').peekable();
+    let mut here = table;
+    while let Some(key) = keys.next() {
+        if key.is_empty() {
+            return Err(grid_error(format!("`{path}` is not a scene field path")));
+        }
+        if keys.peek().is_none() {
+            here.insert(key.to_string(), value);
+            return Ok(());
+        }
+        let next = here
+            .entry(key.to_string())
+            .or_insert_with(|| Value::Table(Table::new()));
+        here = next
+            .as_table_mut()
+            .ok_or_else(|| grid_error(format!("`{path}`: `{key}` is a value, not a section")))?;
+    }
+    Ok(())
+}
+
+impl Grid {
+    /// Reads and expands a grid file; every scene is validated as a scene file would be.
+    pub fn from_path(path: &Path, strict: bool) -> Result<Grid, SimError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| grid_error(format!("{}: {e}", path.display())))?;
+        Self::from_toml(&text, strict).map_err(|e| match e {
+            SimError::Grid(m) => grid_error(format!("{}: {m}", path.display())),
+            other => other,
+        })
+    }
+
+    /// Expands grid text (see the module documentation).
+    pub fn from_toml(text: &str, strict: bool) -> Result<Grid, SimError> {
+        let file: GridFile = toml::from_str(text).map_err(|e| grid_error(e.to_string()))?;
+        if file.name.is_empty()
+            || !file
+                .name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+        {
+            return Err(grid_error(format!(
+                "name `{}` must be non-empty letters, digits, - or _ (it names files)",
+                file.name
+            )));
+        }
+        let mut lists = Vec::new();
+        for (key, value) in &file.vary {
+            match value {
+                Value::Array(values) if !values.is_empty() => {
+                    if let Some(twice) = values
+                        .iter()
+                        .enumerate()
+                        .find_map(|(k, v)| values[..k].contains(v).then_some(v))
+                    {
+                        return Err(grid_error(format!(
+                            "vary.\"{key}\" lists {twice} twice: the grid would run the same scene twice"
+                        )));
+                    }
+                    lists.push((key.as_str(), values.as_slice()))
+                }
+                _ => {
+                    return Err(grid_error(format!(
+                        "vary.\"{key}\" must be a non-empty list of values"
+                    )))
+                }
+            }
+            if file.cases.iter().any(|c| c.contains_key(key)) {
+                return Err(grid_error(format!(
+                    "`{key}` is both in [vary] and in a [[cases]] table"
+                )));
+            }
+        }
+        for (k, case) in file.cases.iter().enumerate() {
+            if case.contains_key("name") {
+                return Err(grid_error(format!(
+                    "cases[{k}] sets `name`; scene names are `<grid name>_<index>`"
+                )));
+            }
+            if let Some(first) = file.cases[..k].iter().position(|c| c == case) {
+                return Err(grid_error(format!(
+                    "cases[{first}] and cases[{k}] are the same case: the grid would run the same scene twice"
+                )));
+            }
+        }
+        let no_case = BTreeMap::new();
+        let cases: Vec<&BTreeMap<String, Value>> = if file.cases.is_empty() {
+            vec![&no_case]
+        } else {
+            file.cases.iter().collect()
+        };
+        let per_case: usize = lists.iter().map(|(_, v)| v.len()).product();
+        let total = cases.len() * per_case;
+        let width = total.saturating_sub(1).to_string().len().max(3);
+        let mut scenes = Vec::with_capacity(total);
+        for (c, case) in cases.iter().enumerate() {
+            for combo in 0..per_case {
+                let index = c * per_case + combo;
+                let id = format!("{}_{index:0width$}", file.name);
+                let mut table = file.scene.clone();
+                for (key, value) in case.iter() {
+                    set_field(&mut table, key, value.clone())?;
+                }
+                let mut rest = combo;
+                for (key, values) in lists.iter().rev() {
+                    set_field(&mut table, key, values[rest % values.len()].clone())?;
+                    rest /= values.len();
+                }
+                table.insert("name".into(), Value::String(id.clone()));
+                let scene_file: SceneFile = Value::Table(table)
+                    .try_into()
+                    .map_err(|e| grid_error(format!("scene {id}: {e}")))?;
+                let scene = Scene::from_file(scene_file, strict)
+                    .map_err(|e| grid_error(format!("scene {id}: {e}")))?;
+                scenes.push(GridScene { index, id, scene });
+            }
+        }
+        Ok(Grid {
+            name: file.name,
+            scenes,
+        })
+    }
+
+    /// The scenes of shard `i` of `n` (0 <= i < n): every n-th scene from the i-th, so that
+    /// the shards are disjoint, cover the grid, and each gets a share of every setting.
+    pub fn shard(&self, i: usize, n: usize) -> Result<Vec<&GridScene>, SimError> {
+        if n == 0 || i >= n {
+            return Err(grid_error(format!("shard {i}/{n}: need 0 <= i < n")));
+        }
+        Ok(self.scenes.iter().filter(|s| s.index % n == i).collect())
+    }
+}

@@ -1,0 +1,587 @@
+//! Scene files (TOML): the box, particles, fluid, force terms and run length, validated
+//! field by field, with the derived quantities a run needs (N, Stokes number, bins).
+use crate::error::SimError;
+use crate::input::flow_profile::FlowProfile;
+use crate::input::memory_estimate;
+use crate::input::scene_name;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// The scene file as written by the user; every field but the box, `phi` and the
+/// profile has the docs/physics.md section 1 default.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Name copied to the outputs (`scene_id`); letters, digits, `_`, `-`, `.` (see
+    /// [`scene_name`]).
+    #[serde(default = "default_name")]
+    pub name: String,
+    /// RNG seed of the initial packing.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    #[serde(rename = "box")]
+    pub box_: BoxSection,
+    pub particles: ParticleSection,
+    pub fluid: FluidSection,
+    #[serde(default)]
+    pub forces: ForceSection,
+    #[serde(default)]
+    pub run: RunSection,
+}
+
+/// Fully periodic box, lengths in units of the small radius a.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxSection {
+    pub l_x: f64,
+    pub l_y: f64,
+    pub l_z: f64,
+}
+
+/// Particle population.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleSection {
+    /// Global solid volume fraction.
+    pub phi: f64,
+    /// Radii of the species (units a).
+    #[serde(default = "default_radii")]
+    pub radii: Vec<f64>,
+    /// Number fractions of the species (must sum to 1); equal numbers of each radius when
+    /// absent (an empty list until validation fills it in).
+    #[serde(default)]
+    pub fractions: Vec<f64>,
+    /// Particle density (mass per a^3); 1 when neither this nor `stokes` is given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rho: Option<f64>,
+    /// Target Stokes number `rho a^2 gdot_max / eta` (docs/physics.md section 1): sets `rho` from the
+    /// profile's largest shear rate, so that scenes with different profiles share one St.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stokes: Option<f64>,
+}
+
+/// Suspending fluid and its streaming velocity.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidSection {
+    /// Viscosity.
+    #[serde(default = "one")]
+    pub eta: f64,
+    /// Streaming velocity `u(y)` along x (docs/physics.md section 2), an expression in y, L, pi.
+    pub profile: String,
+}
+
+/// Which force terms are on, and their parameters.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForceSection {
+    #[serde(default = "yes")]
+    pub contact: bool,
+    #[serde(default = "yes")]
+    pub drag: bool,
+    #[serde(default = "yes")]
+    pub lubrication: bool,
+    /// Normal contact stiffness.
+    #[serde(default = "default_k_n")]
+    pub k_n: f64,
+    /// Contact friction coefficient (0 = frictionless, no tangential history kept).
+    #[serde(default)]
+    pub mu_p: f64,
+    /// Lubrication inner regularisation of the dimensionless gap.
+    #[serde(default = "default_xi_min")]
+    pub xi_min: f64,
+    /// Lubrication outer cut-off of the dimensionless gap.
+    #[serde(default = "default_xi_max")]
+    pub xi_max: f64,
+}
+
+/// Time step, sampling, steady-state detection and averaging.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSection {
+    /// Fixed time step; absent = automatic (docs/physics.md section 5).
+    #[serde(default)]
+    pub dt: Option<f64>,
+    /// Fraction of the tightest explicit stability limit used by the automatic dt.
+    #[serde(default = "default_dt_safety")]
+    pub dt_safety: f64,
+    /// Multiplier applied to the automatic dt (stability studies; 1 = as chosen).
+    #[serde(default = "one")]
+    pub dt_factor: f64,
+    /// Verlet-list skin (units a).
+    #[serde(default = "default_skin")]
+    pub skin: f64,
+    /// Bin width along y (units a); must divide L_y.
+    #[serde(default = "default_bin_width")]
+    pub bin_width: f64,
+    /// Strain between two snapshots.
+    #[serde(default = "default_sample_strain")]
+    pub sample_strain: f64,
+    /// Strain of one steady-state detection window.
+    #[serde(default = "one")]
+    pub window_strain: f64,
+    /// Strain budget to reach the steady state.
+    #[serde(default = "default_max_strain")]
+    pub max_strain: f64,
+    /// Steady when, for u, sigma_xy and phi_loc, the mean over bins of the squared
+    /// z-score of the linear trend over the last 4 windows is below this (about 1 for
+    /// pure noise).
+    #[serde(default = "default_steady_chi2")]
+    pub steady_chi2: f64,
+    /// Snapshots averaged in the steady state (seeds: 1000).
+    #[serde(default = "default_snapshots")]
+    pub snapshots: usize,
+    /// Blocks for the standard errors (batch means over the snapshots).
+    #[serde(default = "default_blocks")]
+    pub blocks: usize,
+    /// Wall-clock seconds between checkpoints.
+    #[serde(default = "default_checkpoint_s")]
+    pub checkpoint_every_s: f64,
+}
+
+fn default_name() -> String {
+    "scene".into()
+}
+fn default_seed() -> u64 {
+    1
+}
+fn default_radii() -> Vec<f64> {
+    vec![1.0, 1.4]
+}
+fn one() -> f64 {
+    1.0
+}
+fn yes() -> bool {
+    true
+}
+fn default_k_n() -> f64 {
+    1e4
+}
+fn default_xi_min() -> f64 {
+    1e-3
+}
+fn default_xi_max() -> f64 {
+    0.05
+}
+fn default_dt_safety() -> f64 {
+    0.3
+}
+fn default_skin() -> f64 {
+    0.1
+}
+fn default_bin_width() -> f64 {
+    2.0
+}
+fn default_sample_strain() -> f64 {
+    0.01
+}
+fn default_max_strain() -> f64 {
+    30.0
+}
+fn default_steady_chi2() -> f64 {
+    3.0
+}
+fn default_snapshots() -> usize {
+    1000
+}
+fn default_blocks() -> usize {
+    20
+}
+fn default_checkpoint_s() -> f64 {
+    60.0
+}
+
+impl Default for ForceSection {
+    fn default() -> Self {
+        toml::from_str("").expect("all force fields have defaults")
+    }
+}
+
+impl Default for RunSection {
+    fn default() -> Self {
+        toml::from_str("").expect("all run fields have defaults")
+    }
+}
+
+/// A validated scene with its derived quantities.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub file: SceneFile,
+    pub profile: FlowProfile,
+    /// Box lengths `[L_x, L_y, L_z]`.
+    pub box_len: [f64; 3],
+    /// Number of particles of each species.
+    pub counts: Vec<usize>,
+    /// Volume fraction actually realised by the integer particle counts.
+    pub phi_actual: f64,
+    /// Number of bins along y.
+    pub n_bins: usize,
+    /// Largest pair interaction distance (contact or lubrication cut-off), units a.
+    pub interaction_range: f64,
+    /// Particle density, given or derived from the target Stokes number.
+    pub rho: f64,
+    /// Stokes number `rho a^2 gdot_max / eta` with a the small radius (docs/physics.md section 1).
+    pub stokes: f64,
+    /// Estimated peak memory of a run (bytes, see [`memory_estimate`]).
+    pub memory_bytes: f64,
+    /// Non-fatal problems (Stokes number too large, ...).
+    pub warnings: Vec<String>,
+}
+
+/// Largest accepted `|sum of number fractions - 1|` (room for decimal round-off such as
+/// `[0.1, 0.2, 0.7]`).
+const FRACTION_SUM_TOLERANCE: f64 = 1e-9;
+
+fn positive(field: &str, v: f64) -> Result<(), SimError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(SimError::field(
+            field,
+            format!("must be a positive finite number, got {v}"),
+        ))
+    }
+}
+
+impl Scene {
+    /// Reads and validates a scene file.
+    pub fn from_path(path: &Path, strict: bool) -> Result<Scene, SimError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SimError::SceneFile {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        Self::from_toml(&text, strict).map_err(|e| match e {
+            SimError::SceneFile { message, .. } => SimError::SceneFile {
+                path: path.display().to_string(),
+                message,
+            },
+            other => other,
+        })
+    }
+
+    /// Parses and validates scene text. With `strict`, warnings (docs/physics.md section 1: Stokes
+    /// number >= 0.1) are errors.
+    pub fn from_toml(text: &str, strict: bool) -> Result<Scene, SimError> {
+        let file: SceneFile = toml::from_str(text).map_err(|e| SimError::SceneFile {
+            path: "<text>".into(),
+            message: e.to_string(),
+        })?;
+        Self::from_file(file, strict)
+    }
+
+    /// Validates a parsed scene; absent number fractions become equal fractions of the
+    /// radii given.
+    pub fn from_file(mut file: SceneFile, strict: bool) -> Result<Scene, SimError> {
+        scene_name::check(&file.name).map_err(|m| SimError::field("name", m))?;
+        if file.particles.fractions.is_empty() {
+            let n = file.particles.radii.len();
+            file.particles.fractions = vec![1.0 / n as f64; n];
+        }
+        let b = &file.box_;
+        positive("box.l_x", b.l_x)?;
+        positive("box.l_y", b.l_y)?;
+        positive("box.l_z", b.l_z)?;
+        let p = &file.particles;
+        if !(p.phi > 0.0 && p.phi < 0.74) {
+            return Err(SimError::field(
+                "particles.phi",
+                format!(
+                    "must lie in (0, 0.74) (0.74 is the densest packing of spheres), got {}",
+                    p.phi
+                ),
+            ));
+        }
+        if p.radii.is_empty() || p.radii.len() != p.fractions.len() {
+            return Err(SimError::field(
+                "particles.fractions",
+                format!(
+                    "needs one number fraction per radius ({} radii, {} fractions)",
+                    p.radii.len(),
+                    p.fractions.len()
+                ),
+            ));
+        }
+        for (k, &a) in p.radii.iter().enumerate() {
+            positive(&format!("particles.radii[{k}]"), a)?;
+        }
+        let fraction_sum: f64 = p.fractions.iter().sum();
+        if p.fractions.iter().any(|f| !(f.is_finite() && *f >= 0.0))
+            || (fraction_sum - 1.0).abs() > FRACTION_SUM_TOLERANCE
+        {
+            return Err(SimError::field(
+                "particles.fractions",
+                format!(
+                    "number fractions must be non-negative and sum to 1, got {:?} (sum {fraction_sum})",
+                    p.fractions
+                ),
+            ));
+        }
+        positive("fluid.eta", file.fluid.eta)?;
+        let f = &file.forces;
+        if !(f.contact || f.drag || f.lubrication) {
+            return Err(SimError::field(
+                "forces",
+                "contact, drag and lubrication are all off: nothing couples the particles to \
+                 the flow or limits the time step; switch at least one on",
+            ));
+        }
+        positive("forces.k_n", f.k_n)?;
+        if !(f.mu_p.is_finite() && f.mu_p >= 0.0) {
+            return Err(SimError::field(
+                "forces.mu_p",
+                format!("must be >= 0, got {}", f.mu_p),
+            ));
+        }
+        positive("forces.xi_min", f.xi_min)?;
+        positive("forces.xi_max", f.xi_max)?;
+        if f.xi_min >= f.xi_max {
+            return Err(SimError::field(
+                "forces.xi_min",
+                format!("must be below forces.xi_max ({} >= {})", f.xi_min, f.xi_max),
+            ));
+        }
+        let r = &file.run;
+        if let Some(dt) = r.dt {
+            positive("run.dt", dt)?;
+        }
+        positive("run.dt_safety", r.dt_safety)?;
+        positive("run.dt_factor", r.dt_factor)?;
+        if !(r.skin.is_finite() && r.skin >= 0.0) {
+            return Err(SimError::field(
+                "run.skin",
+                format!("must be >= 0, got {}", r.skin),
+            ));
+        }
+        positive("run.bin_width", r.bin_width)?;
+        positive("run.sample_strain", r.sample_strain)?;
+        positive("run.window_strain", r.window_strain)?;
+        positive("run.max_strain", r.max_strain)?;
+        positive("run.steady_chi2", r.steady_chi2)?;
+        positive("run.checkpoint_every_s", r.checkpoint_every_s)?;
+        if r.blocks < 2 || r.snapshots < r.blocks {
+            return Err(SimError::field(
+                "run.blocks",
+                format!(
+                    "need 2 <= blocks <= snapshots, got blocks = {}, snapshots = {}",
+                    r.blocks, r.snapshots
+                ),
+            ));
+        }
+        let bins = b.l_y / r.bin_width;
+        let n_bins = bins.round() as usize;
+        if n_bins < 3 || (bins - bins.round()).abs() > 1e-6 * bins {
+            return Err(SimError::field(
+                "run.bin_width",
+                format!(
+                    "must divide box.l_y into at least 3 bins: {} / {} = {bins}",
+                    b.l_y, r.bin_width
+                ),
+            ));
+        }
+        let profile = FlowProfile::new(&file.fluid.profile, b.l_y)?;
+        let gdot_max = profile.max_abs_shear_rate();
+        if gdot_max == 0.0 {
+            return Err(SimError::field(
+                "fluid.profile",
+                format!(
+                    "`{}` has no shear (max |u'| = 0): the run's clock is the strain, which would \
+                     never advance; give a profile whose shear rate is not zero everywhere",
+                    file.fluid.profile
+                ),
+            ));
+        }
+
+        let a_max = p.radii.iter().cloned().fold(0.0, f64::max);
+        let a_min = p.radii.iter().cloned().fold(f64::INFINITY, f64::min);
+        let contact_range = 2.0 * a_max;
+        let interaction_range = if f.lubrication {
+            contact_range * (1.0 + 0.5 * f.xi_max)
+        } else {
+            contact_range
+        };
+        let needed = 2.0 * (interaction_range + r.skin);
+        for (name, l) in [("box.l_x", b.l_x), ("box.l_y", b.l_y), ("box.l_z", b.l_z)] {
+            if l < needed {
+                return Err(SimError::field(
+                    name,
+                    format!(
+                        "{l} is shorter than twice the interaction range plus skin ({needed:.3}): \
+                     the minimum-image convention would count a pair twice"
+                    ),
+                ));
+            }
+        }
+
+        let fractions: Vec<f64> = p.fractions.iter().map(|x| x / fraction_sum).collect();
+        let volume = b.l_x * b.l_y * b.l_z;
+        let mean_particle_volume: f64 = fractions
+            .iter()
+            .zip(&p.radii)
+            .map(|(x, a)| x * 4.0 / 3.0 * PI * a.powi(3))
+            .sum();
+        let n_total = (p.phi * volume / mean_particle_volume).round() as usize;
+        let memory_bytes =
+            memory_estimate::run_bytes(n_total, [b.l_x, b.l_y, b.l_z], interaction_range + r.skin);
+        if let Some(machine) = memory_estimate::physical_bytes().filter(|&m| memory_bytes > m) {
+            return Err(SimError::field(
+                "box",
+                format!(
+                    "{n_total} particles (phi = {} in a box of {} x {} x {}) need about {} of \
+                     memory, more than this machine's {}; use a smaller box",
+                    p.phi,
+                    b.l_x,
+                    b.l_y,
+                    b.l_z,
+                    memory_estimate::describe(memory_bytes),
+                    memory_estimate::describe(machine)
+                ),
+            ));
+        }
+        let mut counts: Vec<usize> = fractions
+            .iter()
+            .map(|x| (x * n_total as f64).round() as usize)
+            .collect();
+        let assigned: usize = counts.iter().sum();
+        let last = counts.len() - 1;
+        counts[last] = (counts[last] + n_total).saturating_sub(assigned);
+        let n: usize = counts.iter().sum();
+        if n < 2 {
+            return Err(SimError::field(
+                "particles.phi",
+                format!(
+                    "the box holds fewer than 2 particles at phi = {} (volume {volume})",
+                    p.phi
+                ),
+            ));
+        }
+        let solid: f64 = counts
+            .iter()
+            .zip(&p.radii)
+            .map(|(&c, a)| c as f64 * 4.0 / 3.0 * PI * a.powi(3))
+            .sum();
+        let phi_actual = solid / volume;
+
+        let rho = match (p.rho, p.stokes) {
+            (Some(_), Some(_)) => {
+                return Err(SimError::field(
+                    "particles.stokes",
+                    "give either particles.rho or particles.stokes, not both (stokes sets rho)",
+                ))
+            }
+            (Some(rho), None) => {
+                positive("particles.rho", rho)?;
+                rho
+            }
+            (None, Some(st)) => {
+                positive("particles.stokes", st)?;
+                st * file.fluid.eta / (a_min * a_min * gdot_max)
+            }
+            (None, None) => 1.0,
+        };
+        let stokes = rho * a_min * a_min * gdot_max / file.fluid.eta;
+        let mut warnings = Vec::new();
+        if stokes >= 0.1 {
+            let msg = format!(
+                "Stokes number rho a^2 gdot_max / eta = {stokes:.3} >= 0.1: inertia is not negligible (thesis 4.2.4)");
+            if strict {
+                let field = if p.stokes.is_some() {
+                    "particles.stokes"
+                } else {
+                    "particles.rho"
+                };
+                return Err(SimError::field(field, msg));
+            }
+            warnings.push(msg);
+        }
+        Ok(Scene {
+            box_len: [b.l_x, b.l_y, b.l_z],
+            counts,
+            phi_actual,
+            n_bins,
+            interaction_range,
+            rho,
+            stokes,
+            memory_bytes,
+            warnings,
+            profile,
+            file,
+        })
+    }
+
+    /// Total number of particles.
+    pub fn n_particles(&self) -> usize {
+        self.counts.iter().sum()
+    }
+
+    /// Radius of every particle, species by species (species 0 first).
+    pub fn particle_radii(&self) -> Vec<f64> {
+        let radii = &self.file.particles.radii;
+        self.counts
+            .iter()
+            .zip(radii)
+            .flat_map(|(&c, &a)| std::iter::repeat_n(a, c))
+            .collect()
+    }
+
+    /// Species index of every particle, in the order of [`Scene::particle_radii`].
+    pub fn particle_species(&self) -> Vec<u16> {
+        self.counts
+            .iter()
+            .enumerate()
+            .flat_map(|(s, &c)| std::iter::repeat_n(s as u16, c))
+            .collect()
+    }
+
+    /// Number-weighted mean radius, the `a` of Theta (docs/physics.md section 6).
+    pub fn mean_radius(&self) -> f64 {
+        let radii = self.particle_radii();
+        radii.iter().sum::<f64>() / radii.len() as f64
+    }
+
+    /// Largest shear rate of the streaming profile, the strain-rate unit of the run.
+    pub fn gdot_max(&self) -> f64 {
+        self.profile.max_abs_shear_rate()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(particles: &str) -> Result<Scene, SimError> {
+        Scene::from_toml(
+            &format!(
+                "[box]\nl_x = 8.0\nl_y = 12.0\nl_z = 8.0\n[particles]\nphi = 0.5\n{particles}\n\
+                 [fluid]\nprofile = \"0.1*sin(2*pi*y/L)\"\n"
+            ),
+            false,
+        )
+    }
+
+    #[test]
+    fn absent_fractions_are_equal_numbers_of_the_radii_given() {
+        let one = scene("radii = [1.0]").unwrap();
+        assert_eq!(one.file.particles.fractions, vec![1.0]);
+        assert_eq!(one.counts.len(), 1);
+        let three = scene("radii = [1.0, 1.2, 1.4]").unwrap();
+        assert_eq!(three.file.particles.fractions, vec![1.0 / 3.0; 3]);
+        let (lo, hi) = (
+            three.counts.iter().min().unwrap(),
+            three.counts.iter().max().unwrap(),
+        );
+        assert!(hi - lo <= 1, "{:?}", three.counts);
+        // The default radii keep the fractions they always had.
+        assert_eq!(scene("").unwrap().file.particles.fractions, vec![0.5, 0.5]);
+    }
+
+    #[test]
+    fn fractions_must_sum_to_one() {
+        let message = scene("fractions = [0.3, 0.3]").unwrap_err().to_string();
+        assert!(
+            message.contains("sum to 1") && message.contains("sum 0.6"),
+            "{message}"
+        );
+        assert!(scene("radii = [1.0, 1.2, 1.4]\nfractions = [0.1, 0.2, 0.7]").is_ok());
+    }
+}

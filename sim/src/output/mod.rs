@@ -1,0 +1,4 @@
+//! Files a run writes: the binned table, the summary, frames, and checkpoints.
+
+pub mod checkpoint;
+pub mod result_files;

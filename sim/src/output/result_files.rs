@@ -1,0 +1,110 @@
+//! Result files: `profile.csv` (one row per bin, the column names of docs/physics.md
+//! section 8 with `_se` standard errors), `summary.json`, and extended-XYZ frames that
+//! OVITO reads.
+use crate::error::SimError;
+use crate::input::scene::Scene;
+use crate::integrate::simulation::Simulation;
+use crate::output::checkpoint::write_atomic;
+use crate::run::RunSummary;
+use crate::sampling::bin_averages::{BinAverages, COLUMNS};
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::Path;
+
+/// Header of a profile table (docs/physics.md section 8, the dataset schema): the scene's provenance
+/// (id, profile, L_y, phi, seed, strain at which it was steady, momentum residual, code
+/// version), the bin position and streaming velocity, then every observable and its
+/// standard error.
+pub fn profile_header() -> String {
+    let mut h = String::from(
+        "scene_id,profile,L_y,phi,seed,steady_strain,momentum_residual,code_version,y,u_inf",
+    );
+    for c in COLUMNS {
+        let _ = write!(h, ",{c},{c}_se");
+    }
+    h
+}
+
+/// Formats a value; undefined (NaN) values become empty fields.
+fn num(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:e}")
+    } else {
+        String::new()
+    }
+}
+
+/// The rows of a profile table for `profile` of `scene`, run as `summary` says (no header).
+pub fn profile_rows(scene: &Scene, profile: &BinAverages, summary: &RunSummary) -> String {
+    let f = &scene.file;
+    let mut out = String::new();
+    let (mean, se) = (profile.mean.columns(), profile.se.columns());
+    for k in 0..profile.y.len() {
+        let _ = write!(
+            out,
+            "{},\"{}\",{},{},{},{},{},{},{},{}",
+            f.name,
+            f.fluid.profile,
+            scene.box_len[1],
+            f.particles.phi,
+            f.seed,
+            num(summary.strain_to_steady),
+            num(summary.momentum_residual.unwrap_or(f64::NAN)),
+            summary.code_version,
+            num(profile.y[k]),
+            num(profile.u_inf[k])
+        );
+        for c in 0..COLUMNS.len() {
+            let _ = write!(out, ",{},{}", num(mean[c][k]), num(se[c][k]));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// Writes `dir/profile.csv` and `dir/summary.json` atomically.
+pub fn write_results(
+    dir: &Path,
+    scene: &Scene,
+    profile: &BinAverages,
+    summary: &RunSummary,
+) -> Result<(), SimError> {
+    let err = |e: std::io::Error| SimError::Output {
+        path: dir.display().to_string(),
+        message: e.to_string(),
+    };
+    std::fs::create_dir_all(dir).map_err(err)?;
+    let csv = format!(
+        "{}\n{}",
+        profile_header(),
+        profile_rows(scene, profile, summary)
+    );
+    write_atomic(&dir.join("profile.csv"), csv.as_bytes())?;
+    let json = serde_json::to_vec_pretty(summary).map_err(|e| SimError::Output {
+        path: dir.join("summary.json").display().to_string(),
+        message: e.to_string(),
+    })?;
+    write_atomic(&dir.join("summary.json"), &json)
+}
+
+/// Appends one extended-XYZ frame (identity, species, position, radius, velocity, spin) to `file`.
+pub fn append_xyz_frame(file: &mut std::fs::File, sim: &Simulation) -> Result<(), SimError> {
+    let p = &sim.particles;
+    let l = sim.pbox.len;
+    let mut s = String::with_capacity(p.len() * 120);
+    let _ = writeln!(s, "{}", p.len());
+    let _ = writeln!(s, "Lattice=\"{} 0 0 0 {} 0 0 0 {}\" Properties=id:I:1:species:S:1:pos:R:3:radius:R:1:velo:R:3:omega:R:3 Time={} pbc=\"T T T\"",
+        l.x, l.y, l.z, sim.time);
+    for i in 0..p.len() {
+        let (x, v, w) = (p.pos[i], p.vel[i], p.omega[i]);
+        let _ = writeln!(
+            s,
+            "{} S{} {} {} {} {} {} {} {} {} {} {}",
+            p.id[i], p.species[i], x.x, x.y, x.z, p.radius[i], v.x, v.y, v.z, w.x, w.y, w.z
+        );
+    }
+    file.write_all(s.as_bytes()).map_err(|e| SimError::Output {
+        path: "snapshot xyz".into(),
+        message: e.to_string(),
+    })
+}

@@ -1,0 +1,218 @@
+//! Bin averages: the binned steady-state observables (docs/physics.md, section
+//! Observables) from snapshot sums: u, gdot, stress, P, phi_loc, J, mu, Theta, Delta_v per
+//! bin, their batch-means standard errors, and the momentum-balance residual.
+use crate::error::SimError;
+use crate::sampling::binning::Bins;
+use crate::sampling::block_sums::BlockSums;
+use crate::sampling::snapshot::field::*;
+use serde::Serialize;
+
+/// Regulariser of Delta_v (thesis eq 6.2).
+pub const DELTA_V_EPS: f64 = 1e-5;
+
+/// Constants that turn snapshot sums into observables.
+#[derive(Clone, Debug)]
+pub struct BinningContext {
+    pub bins: Bins,
+    /// `L_x * w * L_z`.
+    pub bin_volume: f64,
+    /// `L_x * L_z`, the area of a bin face.
+    pub face_area: f64,
+    pub eta: f64,
+    /// Mean radius, the `a` of Theta.
+    pub a_mean: f64,
+    /// Streaming velocity at the bin centres.
+    pub u_inf: Vec<f64>,
+}
+
+/// Per-bin observables. Stresses use the positive-in-compression convention
+/// (`sigma = -Cauchy stress`): `sigma = sum of stresslets / V_b`, `P = tr(sigma)/3`.
+/// J, mu and Theta are NaN where P <= 0 (undefined; written as empty fields).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Observables {
+    /// Mean x-velocity of the particles centred in the bin.
+    pub u: Vec<f64>,
+    /// `du/dy`, centred periodic differences of u.
+    pub gdot: Vec<f64>,
+    pub sigma_xy: Vec<f64>,
+    #[serde(rename = "P")]
+    pub p: Vec<f64>,
+    pub phi_loc: Vec<f64>,
+    #[serde(rename = "J")]
+    pub j: Vec<f64>,
+    pub mu: Vec<f64>,
+    #[serde(rename = "Theta")]
+    pub theta: Vec<f64>,
+    #[serde(rename = "Delta_v")]
+    pub delta_v: Vec<f64>,
+    /// Drag force density on the particles, x component.
+    pub f_x: Vec<f64>,
+    /// Mean number of particle centres in the bin.
+    pub count: Vec<f64>,
+}
+
+/// Names of the observable columns, in output order.
+pub const COLUMNS: [&str; 11] = [
+    "u", "gdot", "sigma_xy", "P", "phi_loc", "J", "mu", "Theta", "Delta_v", "f_x", "count",
+];
+
+impl Observables {
+    /// Columns in the order of [`COLUMNS`].
+    pub fn columns(&self) -> [&Vec<f64>; 11] {
+        [
+            &self.u,
+            &self.gdot,
+            &self.sigma_xy,
+            &self.p,
+            &self.phi_loc,
+            &self.j,
+            &self.mu,
+            &self.theta,
+            &self.delta_v,
+            &self.f_x,
+            &self.count,
+        ]
+    }
+
+    fn columns_mut(&mut self) -> [&mut Vec<f64>; 11] {
+        [
+            &mut self.u,
+            &mut self.gdot,
+            &mut self.sigma_xy,
+            &mut self.p,
+            &mut self.phi_loc,
+            &mut self.j,
+            &mut self.mu,
+            &mut self.theta,
+            &mut self.delta_v,
+            &mut self.f_x,
+            &mut self.count,
+        ]
+    }
+}
+
+/// Averaged profile with standard errors.
+#[derive(Clone, Debug, Serialize)]
+pub struct BinAverages {
+    /// Bin centres.
+    pub y: Vec<f64>,
+    pub u_inf: Vec<f64>,
+    pub mean: Observables,
+    /// Standard errors: spread of the block values / sqrt(blocks).
+    pub se: Observables,
+    /// `rms_k[(sigmaC(k+1) - sigmaC(k))/w + f_x(k)] / rms_k f_x(k)` with the Cauchy plane
+    /// stresses sigmaC at the bin faces (method of planes): the discrete steady momentum
+    /// balance `d sigmaC_xy/dy + f_x = 0` (docs/physics.md section 6). None without drag.
+    pub momentum_residual: Option<f64>,
+    /// Snapshots averaged.
+    pub snapshots: usize,
+}
+
+/// Observables of summed snapshots `s` (`n` snapshots). Theta uses fluctuations about
+/// `u_star`, the linear interpolation between bin centres of the bin means given.
+pub fn observables(
+    ctx: &BinningContext,
+    s: &[f64],
+    n: usize,
+    u_star: &[f64],
+) -> Result<Observables, SimError> {
+    let nb = ctx.bins.count;
+    let per = |f: usize, k: usize| s[f * nb + k];
+    let norm = 1.0 / (n as f64 * ctx.bin_volume);
+    let mut o = Observables::default();
+    for k in 0..nb {
+        let count = per(COUNT, k);
+        if count == 0.0 {
+            return Err(SimError::field("run.bin_width", format!(
+                "bin {k} (y = {:.2}) received no particle centre in {n} snapshots: bins too thin for the box \
+                 (widen box.l_x / box.l_z or run.bin_width)", ctx.bins.centre(k))));
+        }
+        o.count.push(count / n as f64);
+        o.u.push(per(VX, k) / count);
+        o.phi_loc.push(per(VOLUME, k) * norm);
+        o.sigma_xy.push(per(SXY, k) * norm);
+        o.p.push((per(SXX, k) + per(SYY, k) + per(SZZ, k)) * norm / 3.0);
+        o.f_x.push(per(DRAG_X, k) * norm);
+        o.delta_v
+            .push((ctx.u_inf[k] - o.u[k]).abs() / (ctx.u_inf[k].abs() + DELTA_V_EPS));
+        // Sum of (v - u*)^2 over the bin from the interpolation sums.
+        let (below, here, above) = (u_star[(k + nb - 1) % nb], u_star[k], u_star[(k + 1) % nb]);
+        let half = |base: usize, left: f64, right: f64| {
+            -2.0 * (left * per(base, k) + right * per(base + 1, k))
+                + left * left * per(base + 2, k)
+                + 2.0 * left * right * per(base + 3, k)
+                + right * right * per(base + 4, k)
+        };
+        let fluct2 =
+            (per(VX2, k) + half(LOWER, below, here) + half(UPPER, here, above)).max(0.0) / count;
+        o.theta.push(ctx.eta * fluct2.sqrt() / ctx.a_mean);
+    }
+    for k in 0..nb {
+        let g = (o.u[(k + 1) % nb] - o.u[(k + nb - 1) % nb]) / (2.0 * ctx.bins.width);
+        o.gdot.push(g);
+        let p = o.p[k];
+        let ok = p > 0.0;
+        o.j.push(if ok { ctx.eta * g.abs() / p } else { f64::NAN });
+        o.mu.push(if ok {
+            o.sigma_xy[k].abs() / p
+        } else {
+            f64::NAN
+        });
+        o.theta[k] = if ok { o.theta[k] / p } else { f64::NAN };
+    }
+    Ok(o)
+}
+
+impl BinAverages {
+    /// Averages of the snapshots in `blocks`: means from all snapshots, standard errors
+    /// from the spread of the per-block values.
+    pub fn from_blocks(ctx: &BinningContext, blocks: &BlockSums) -> Result<BinAverages, SimError> {
+        let nb = ctx.bins.count;
+        let total = blocks.total();
+        let n = blocks.taken.min(blocks.capacity());
+        let u_mean: Vec<f64> = (0..nb)
+            .map(|k| total[VX * nb + k] / total[COUNT * nb + k].max(1.0))
+            .collect();
+        let mean = observables(ctx, &total, n, &u_mean)?;
+        let per_block: Vec<Observables> = blocks
+            .sums
+            .iter()
+            .map(|b| observables(ctx, b, blocks.per_block, &mean.u))
+            .collect::<Result<_, _>>()?;
+        let nblk = per_block.len() as f64;
+        let mut se = Observables::default();
+        for (c, col) in se.columns_mut().into_iter().enumerate() {
+            for k in 0..nb {
+                let vals: Vec<f64> = per_block.iter().map(|o| o.columns()[c][k]).collect();
+                let m = vals.iter().sum::<f64>() / nblk;
+                let var = vals.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (nblk - 1.0);
+                col.push((var / nblk).sqrt());
+            }
+        }
+        let face: Vec<f64> = (0..nb)
+            .map(|k| total[FACE_FX * nb + k] / (n as f64 * ctx.face_area))
+            .collect();
+        let (mut r2, mut f2) = (0.0, 0.0);
+        for k in 0..nb {
+            let r = (face[(k + 1) % nb] - face[k]) / ctx.bins.width + mean.f_x[k];
+            r2 += r * r;
+            f2 += mean.f_x[k] * mean.f_x[k];
+        }
+        let momentum_residual = (f2 > 0.0).then(|| (r2 / f2).sqrt());
+        Ok(BinAverages {
+            y: (0..nb).map(|k| ctx.bins.centre(k)).collect(),
+            u_inf: ctx.u_inf.clone(),
+            mean,
+            se,
+            momentum_residual,
+            snapshots: n,
+        })
+    }
+
+    /// Bins where P <= 0, so that J, mu and Theta are undefined.
+    pub fn undefined_bins(&self) -> Vec<usize> {
+        (0..self.y.len())
+            .filter(|&k| self.mean.p[k].is_nan() || self.mean.p[k] <= 0.0)
+            .collect()
+    }
+}

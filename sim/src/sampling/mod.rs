@@ -1,0 +1,8 @@
+//! From particles to local observables: bins along y, per-snapshot sums, time averages with
+//! standard errors, and the steady-state test.
+
+pub mod bin_averages;
+pub mod binning;
+pub mod block_sums;
+pub mod snapshot;
+pub mod steady_state;

@@ -1,0 +1,102 @@
+//! One sample of the per-bin sums from which every observable of docs/physics.md section 6 is
+//! built: particle counts, velocities, solid volumes, stresslet sums (method of planes),
+//! plane stresses at the bin faces, drag forces, and the sums that give the velocity
+//! fluctuations about an interpolated mean profile.
+use crate::forces::drag;
+use crate::integrate::simulation::Simulation;
+use crate::sampling::binning::Bins;
+
+/// Field indices of a snapshot; a snapshot is `FIELDS x n_bins` numbers, field-major.
+pub mod field {
+    /// Particles whose centre lies in the bin.
+    pub const COUNT: usize = 0;
+    /// Sum of their x-velocities.
+    pub const VX: usize = 1;
+    /// Solid volume inside the slab (spherical caps).
+    pub const VOLUME: usize = 2;
+    /// Stresslet sums, pairs (method of planes) plus drag, `S_ab = -F_a r_b`.
+    pub const SXX: usize = 3;
+    pub const SYY: usize = 4;
+    pub const SZZ: usize = 5;
+    pub const SXY: usize = 6;
+    /// xy stresslet sum of the pairs alone.
+    pub const SXY_PAIR: usize = 7;
+    /// Sum of the x drag forces on the bin's particles.
+    pub const DRAG_X: usize = 8;
+    /// Sum of the squared x-velocities.
+    pub const VX2: usize = 9;
+    /// Interpolation sums of particles in the lower half of the bin, between the centres
+    /// of bins k-1 and k at fraction t: `v (1-t)`, `v t`, `(1-t)^2`, `t (1-t)`, `t^2`.
+    pub const LOWER: usize = 10;
+    /// The same for the upper half, between the centres of bins k and k+1.
+    pub const UPPER: usize = 15;
+    /// Sum over pairs crossing the bin's lower face of `F_x sign(r_y)`, the x force on the
+    /// particle below from the particle above (Cauchy traction times face area).
+    pub const FACE_FX: usize = 20;
+    /// Number of fields.
+    pub const FIELDS: usize = 21;
+}
+
+/// Adds one snapshot of `sim` into `out` (length `FIELDS * bins.count`).
+pub fn accumulate(sim: &Simulation, bins: &Bins, out: &mut [f64]) {
+    use field::*;
+    let nb = bins.count;
+    let p = &sim.particles;
+    let eta = sim.field.eta;
+    for i in 0..p.len() {
+        let (y, a, vx) = (p.pos[i].y, p.radius[i], p.vel[i].x);
+        let k = bins.index(y);
+        out[COUNT * nb + k] += 1.0;
+        out[VX * nb + k] += vx;
+        out[VX2 * nb + k] += vx * vx;
+        bins.add_sphere_volume(y, a, &mut out[VOLUME * nb..(VOLUME + 1) * nb]);
+        if sim.field.drag {
+            let du = sim.profile.du_dy(y);
+            out[DRAG_X * nb + k] += drag::force(eta, a, sim.profile.u(y), &p.vel[i]).x;
+            out[SXY * nb + k] += drag::stresslet_xy(eta, a, du);
+        }
+        let centre = bins.centre(k);
+        let (base, t) = if y < centre {
+            (LOWER, (y - centre + bins.width) / bins.width)
+        } else {
+            (UPPER, (y - centre) / bins.width)
+        };
+        let s = 1.0 - t;
+        for (f, v) in [vx * s, vx * t, s * s, t * s, t * t]
+            .into_iter()
+            .enumerate()
+        {
+            out[(base + f) * nb + k] += v;
+        }
+    }
+    let frictional = sim.field.frictional();
+    for i in 0..p.len() {
+        for q in sim.list.start[i]..sim.list.start[i + 1] {
+            let j = sim.list.neighbours[q] as usize;
+            let mut spring = if frictional {
+                Some(sim.springs[q])
+            } else {
+                None
+            };
+            let Some(o) = sim.field.pair(p, &sim.pbox, i, j, spring.as_mut(), 0.0) else {
+                continue;
+            };
+            let s = o.load.stresslet(&o.r);
+            let y_i = p.pos[i].y;
+            bins.share_segment(y_i, o.r.y, |k, frac| {
+                out[SXX * nb + k] += frac * s[(0, 0)];
+                out[SYY * nb + k] += frac * s[(1, 1)];
+                out[SZZ * nb + k] += frac * s[(2, 2)];
+                out[SXY * nb + k] += frac * s[(0, 1)];
+                out[SXY_PAIR * nb + k] += frac * s[(0, 1)];
+            });
+            let (lo, hi) = if o.r.y > 0.0 {
+                (y_i, y_i + o.r.y)
+            } else {
+                (y_i + o.r.y, y_i)
+            };
+            let below_from_above = o.load.force_i.x * o.r.y.signum();
+            bins.for_each_face(lo, hi, |k| out[FACE_FX * nb + k] += below_from_above);
+        }
+    }
+}

@@ -1,0 +1,15 @@
+//! One module per `suspflow` command, each with its clap `Args` and its `run`. Commands do
+//! not import from each other: what two of them share lives in a module of its own.
+
+pub mod bench;
+pub mod bench_predict;
+pub mod compare;
+pub mod generate;
+pub mod merge;
+pub mod plot;
+pub mod predict;
+pub mod report;
+pub mod simulate;
+pub mod solve;
+pub mod train;
+pub mod validate;

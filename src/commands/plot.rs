@@ -1,0 +1,91 @@
+//! `suspflow plot DATA.csv --out DIR`: one SVG per scene of a dataset (or a `profile.csv`)
+//! with u (and u_inf), phi_loc, mu, J, Theta and Delta_v along y, each bin's value with one
+//! standard error, like the thesis' figure 6.1.
+use crate::plots::profile_panels::{profile_panels, Panel, Series};
+use anyhow::Context;
+use std::path::PathBuf;
+use surrogate::Dataset;
+
+/// Observables drawn, one panel each.
+const QUANTITIES: [&str; 6] = ["u", "phi_loc", "mu", "J", "Theta", "Delta_v"];
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Dataset or profile table (docs/physics.md section 8 columns).
+    data: PathBuf,
+    /// Directory for `<scene_id>.svg`.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let data = Dataset::read_csv(&args.data)?;
+    crate::output_guard::out_dir(&args.out)?;
+    let ids = data.group_keys()?;
+    let scenes = scene_order(ids, &data)?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    let (profile, l_y, phi) = (data.text("profile")?, data.text("L_y")?, data.text("phi")?);
+    let (y, u_inf) = (data.column("y")?, data.column("u_inf")?);
+    for id in scenes {
+        let rows: Vec<usize> = (0..data.n_rows()).filter(|&r| ids[r] == id).collect();
+        let mut panels = Vec::new();
+        for q in QUANTITIES {
+            let (v, se) = (data.column(q)?, data.column(&format!("{q}_se"))?);
+            let mut series = vec![Series {
+                name: "simulated".into(),
+                points: rows.iter().map(|&r| (y[r], v[r])).collect(),
+                errors: Some(rows.iter().map(|&r| se[r]).collect()),
+            }];
+            if q == "u" {
+                series.push(Series {
+                    name: "u_inf".into(),
+                    points: rows.iter().map(|&r| (y[r], u_inf[r])).collect(),
+                    errors: None,
+                });
+            }
+            panels.push(Panel {
+                quantity: q.into(),
+                series,
+            });
+        }
+        let r0 = rows[0];
+        let title = format!(
+            "{id}: u_inf = {}, L_y = {}, phi = {}",
+            profile[r0], l_y[r0], phi[r0]
+        );
+        let path = args.out.join(format!("{id}.svg"));
+        profile_panels(&path, &title, &panels)?;
+        println!("{}", path.display());
+    }
+    Ok(())
+}
+
+/// The scenes of `ids` (one per row) in file order. Each id names an SVG file, so it must
+/// follow the safe-name rule; a scene whose rows are not contiguous (two runs of one id, or
+/// files concatenated) is refused rather than drawn into one SVG.
+fn scene_order<'a>(ids: &'a [String], data: &Dataset) -> anyhow::Result<Vec<&'a str>> {
+    let mut scenes: Vec<&str> = Vec::new();
+    for (row, id) in ids.iter().enumerate() {
+        if scenes.last() == Some(&id.as_str()) {
+            continue;
+        }
+        sim::input::scene_name::check(id).map_err(|m| {
+            anyhow::anyhow!(
+                "{}: data row {}, column `scene_id`: {m}",
+                data.source_name(),
+                row + 1
+            )
+        })?;
+        if scenes.contains(&id.as_str()) {
+            anyhow::bail!(
+                "{}: data row {}: scene `{id}` appears again after other scenes; \
+                 its rows must be together (one run per scene id)",
+                data.source_name(),
+                row + 1
+            );
+        }
+        scenes.push(id);
+    }
+    Ok(scenes)
+}

@@ -1,0 +1,197 @@
+//! `suspflow simulate SCENE.toml --out DIR`: one scene to its steady-state profile.
+use anyhow::Context;
+use indicatif::{ProgressBar, ProgressStyle};
+use sim::input::scene::Scene;
+use sim::run::{Phase, RunOptions};
+use sim::SimError;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Scene file (TOML, see README).
+    scene: PathBuf,
+    /// Output directory: profile.csv, summary.json, checkpoint.json (not needed with --check).
+    #[arg(long, required_unless_present = "check")]
+    out: Option<PathBuf>,
+    /// Continue from DIR/checkpoint.json if it exists.
+    #[arg(long)]
+    resume: bool,
+    /// Start over in a DIR that holds an earlier run (its checkpoint and results are replaced).
+    #[arg(long, conflicts_with = "resume")]
+    force: bool,
+    /// Refuse scenes that only warrant a warning (Stokes number >= 0.1).
+    #[arg(long)]
+    strict: bool,
+    /// Threads (0 = all cores).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Validate the scene and print its derived quantities (N, bins, Stokes number, time
+    /// step and what limits it) without running.
+    #[arg(long)]
+    check: bool,
+    /// Write an extended-XYZ frame every N snapshots to DIR/frames.xyz (appended to on --resume).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    snapshot: Option<u64>,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let scene = Scene::from_path(&args.scene, args.strict)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    if args.check {
+        return print_check(&scene);
+    }
+    let out = args
+        .out
+        .as_ref()
+        .expect("clap requires --out without --check");
+    crate::output_guard::out_dir(out)?;
+    let checkpoint = out.join("checkpoint.json");
+    let resuming = args.resume && checkpoint.exists();
+    if !args.resume {
+        for (file, what) in [
+            (
+                &checkpoint,
+                "the checkpoint of an unfinished run; --resume continues it",
+            ),
+            (&out.join("profile.csv"), "the result of an earlier run"),
+        ] {
+            crate::output_guard::refuse_unless_force(
+                file,
+                args.force,
+                what,
+                "choose another --out",
+            )?;
+        }
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
+        .context("installing the Ctrl-C handler")?;
+    let opts = RunOptions {
+        checkpoint: Some(checkpoint.clone()),
+        resume: args.resume,
+        interrupt: Some(&INTERRUPTED),
+    };
+    let mut frames = match args.snapshot {
+        Some(every) => {
+            let path = out.join("frames.xyz");
+            // A resumed run continues the frames of the run it resumes.
+            let file = std::fs::OpenOptions::new()
+                .create(true)
+                .write(true)
+                .append(resuming)
+                .truncate(!resuming)
+                .open(&path)
+                .with_context(|| format!("creating {}", path.display()))?;
+            Some((every, file))
+        }
+        None => None,
+    };
+    let bar = ProgressBar::new(1000);
+    bar.set_style(ProgressStyle::with_template(
+        "{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})",
+    )?);
+    let mut frame_error = None;
+    let outcome = crate::threads::with_threads(args.threads, || {
+        sim::run::run(&scene, &opts, &mut |p, sim| {
+            match p.phase {
+                Phase::Equilibrating => {
+                    bar.set_position((1000.0 * p.strain / p.max_strain).min(1000.0) as u64);
+                    bar.set_message(format!(
+                        "equilibrating: strain {:.2} of budget {:.1}",
+                        p.strain, p.max_strain
+                    ));
+                }
+                Phase::Averaging => {
+                    bar.set_position((1000 * p.snapshots / p.snapshots_target.max(1)) as u64);
+                    bar.set_message(format!(
+                        "averaging: snapshot {} / {}",
+                        p.snapshots, p.snapshots_target
+                    ));
+                }
+            }
+            if let Some((every, file)) = frames.as_mut() {
+                if p.samples.is_multiple_of(*every) && frame_error.is_none() {
+                    frame_error = sim::output::result_files::append_xyz_frame(file, sim).err();
+                }
+            }
+        })
+    })?;
+    bar.finish_and_clear();
+    if let Some(e) = frame_error {
+        return Err(e.into());
+    }
+    let outcome = match outcome {
+        Err(SimError::Interrupted { step }) => {
+            anyhow::bail!(
+                "interrupted at step {step}; state saved in {}; continue with --resume",
+                checkpoint.display()
+            )
+        }
+        other => other?,
+    };
+    sim::output::result_files::write_results(out, &scene, &outcome.profile, &outcome.summary)?;
+    let s = &outcome.summary;
+    println!("profile: {}", out.join("profile.csv").display());
+    println!("summary: {}", out.join("summary.json").display());
+    println!(
+        "N = {}, dt = {:.3e} ({}), steps = {}, steady at strain {:.2}, wall {:.1} s, {:.3e} particle-steps/s",
+        s.n_particles, s.dt, s.dt_limit, s.steps, s.strain_to_steady, s.wall_s, s.particle_steps_per_s
+    );
+    match s.momentum_residual {
+        Some(r) => println!(
+            "momentum residual {:.3} of the drag scale; mean overlap {:.2e} a, max {:.2e}",
+            r, s.mean_overlap, s.max_overlap
+        ),
+        None => println!(
+            "momentum residual: n/a (drag off); mean overlap {:.2e} a",
+            s.mean_overlap
+        ),
+    }
+    for w in &s.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(())
+}
+
+/// Derived quantities of a valid scene.
+fn print_check(scene: &Scene) -> anyhow::Result<()> {
+    let t = sim::integrate::timestep::TimeStep::for_scene(scene);
+    let r = &scene.file.run;
+    let steps_per_strain = t.steps_per_strain(scene);
+    println!("scene `{}` is valid", scene.file.name);
+    println!(
+        "particles: {} (species counts {:?}), phi = {:.4}",
+        scene.n_particles(),
+        scene.counts,
+        scene.phi_actual
+    );
+    println!("bins: {} of width {}", scene.n_bins, r.bin_width);
+    println!(
+        "memory: about {} (estimate)",
+        sim::input::memory_estimate::describe(scene.memory_bytes)
+    );
+    println!(
+        "gdot_max = {:.4e}, rho = {:.4}, Stokes number = {:.3e}",
+        scene.gdot_max(),
+        scene.rho,
+        scene.stokes
+    );
+    println!(
+        "dt = {:.3e} set by {} (critical steps: contact {:.3e}, drag {:.3e}, lubrication {:.3e})",
+        t.dt, t.limit, t.contact_critical, t.drag_critical, t.lubrication_critical
+    );
+    println!(
+        "{:.0} steps per unit strain; at most {:.3e} particle-steps to the strain budget {} plus {:.3e} for {} snapshots",
+        steps_per_strain,
+        steps_per_strain * r.max_strain * scene.n_particles() as f64,
+        r.max_strain,
+        steps_per_strain * r.sample_strain * r.snapshots as f64 * scene.n_particles() as f64,
+        r.snapshots
+    );
+    Ok(())
+}

@@ -1,0 +1,462 @@
+//! `suspflow validate --models DIR --data FILE.csv`: the trained mappings on flow profiles
+//! they were not trained on (thesis section 6.2, figures 6.2-6.4).
+//!
+//! For each mapping, output and profile (the `profile` column, and all profiles together) it
+//! prints the relative L2 error of eq 6.6 on outputs min-max scaled with the training ranges
+//! stored in the model's sidecar, next to the seeds' figures. From the training data (the
+//! file the sidecar names, or `--train`) it then measures on all validation rows, with
+//! training times, the chosen XGBoost setting, XGBoost's defaults (the thesis's untuned
+//! setting) and two linfa least-squares baselines; it also shows the cross-validated errors
+//! of the tuning record. Then the theta vs dv errors on every profile and each model's gain
+//! importance. One SVG per profile shows phi_loc and mu along y: simulated (error bars of
+//! one standard error from `<column>_se`) and each mapping's prediction. `--json` prints
+//! only the records `{mapping, output, profile, rel_l2}`.
+use anyhow::Context;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use surrogate::{
+    evaluate_baseline, profile_names, seeds_validation_error, Baseline, Dataset, HyperParameters,
+    Mapping, Samples, TrainedModel, Tuning, Validation, PROFILE_COLUMN,
+};
+
+use crate::plots::profile_panels::{profile_panels, Panel, Series};
+use crate::surrogate_text::{describe, errors_by_output, percent, warn_skipped};
+use crate::training_overlap;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Directory of the trained models (`suspflow train --out`).
+    #[arg(long, default_value = "models")]
+    models: PathBuf,
+    /// Validation table (simulations not used in training, docs/physics.md section 8 columns); profiles
+    /// are told apart by the `profile` column.
+    #[arg(long)]
+    data: PathBuf,
+    /// Mappings to validate (mu, theta, dv); all three when absent.
+    #[arg(long = "mapping")]
+    mappings: Vec<String>,
+    /// Directory for the figures, one SVG per profile; `<models>/validation_plots` when absent.
+    #[arg(long)]
+    plots: Option<PathBuf>,
+    /// Training table for the comparisons with XGBoost's defaults and the linear baselines;
+    /// when absent, the file each model's sidecar names, if it still holds the same bytes.
+    #[arg(long)]
+    train: Option<PathBuf>,
+    /// Print only a JSON array of records {"mapping", "output", "profile", "rel_l2"}.
+    #[arg(long)]
+    json: bool,
+}
+
+/// A loaded model and how it did.
+struct Checked {
+    mapping: &'static Mapping,
+    model: TrainedModel,
+    validation: Validation,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let data = Dataset::read_csv(&args.data)?;
+    let mut checked = Vec::new();
+    for mapping in Mapping::select(&args.mappings)? {
+        let model = TrainedModel::load(&args.models, mapping.name).with_context(|| {
+            format!(
+                "loading model `{}` from {}",
+                mapping.name,
+                args.models.display()
+            )
+        })?;
+        let validation = Validation::run(&model, &data)
+            .with_context(|| format!("validating model `{}`", mapping.name))?;
+        warn_skipped(mapping, &validation.samples);
+        if let Some(warning) = training_overlap::warning(&model, &data, &validation.samples) {
+            eprintln!("warning: {warning}");
+        }
+        checked.push(Checked {
+            mapping,
+            model,
+            validation,
+        });
+    }
+    let plots = args
+        .plots
+        .clone()
+        .unwrap_or_else(|| args.models.join("validation_plots"));
+    let figures = write_figures(&data, &checked, &plots)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&records(&checked))?);
+        return Ok(());
+    }
+    println!(
+        "validation data {}: {} rows",
+        data.source_name(),
+        data.n_rows()
+    );
+    for c in &checked {
+        print_errors(c);
+        print_comparison(c, args.train.as_deref(), &args.models)?;
+    }
+    print_theta_vs_dv(&checked);
+    print_importance(&checked)?;
+    println!("\nfigures: {} in {}", figures.len(), plots.display());
+    Ok(())
+}
+
+/// One line of the `--json` output.
+#[derive(Serialize)]
+struct Record<'a> {
+    mapping: &'a str,
+    output: &'a str,
+    profile: &'a str,
+    rel_l2: f64,
+}
+
+fn records(checked: &[Checked]) -> Vec<Record<'_>> {
+    let mut records = Vec::new();
+    for c in checked {
+        for (j, output) in c.mapping.outputs.iter().enumerate() {
+            for error in c
+                .validation
+                .errors
+                .iter()
+                .chain(&c.validation.domain_errors)
+            {
+                records.push(Record {
+                    mapping: c.mapping.name,
+                    output,
+                    profile: &error.profile,
+                    rel_l2: error.per_output[j],
+                });
+            }
+        }
+    }
+    records
+}
+
+/// The table of errors per profile and output, with the seeds' figures.
+fn print_errors(c: &Checked) {
+    let meta = c.model.meta();
+    println!(
+        "\nmapping {}: ({}) -> ({}), trained on {} rows of {}",
+        c.mapping.name,
+        c.mapping.features.join(", "),
+        c.mapping.outputs.join(", "),
+        meta.training_data.rows,
+        meta.training_data.source
+    );
+    println!("  relative L2 error (eq 6.6), outputs scaled with the training ranges:");
+    let width = c
+        .validation
+        .errors
+        .iter()
+        .map(|e| e.profile.len())
+        .max()
+        .unwrap_or(0)
+        .max(24);
+    let header: String = c
+        .mapping
+        .outputs
+        .iter()
+        .map(|o| format!("{o:>10}"))
+        .collect();
+    println!("  {:<width$} {:>5}{header}", "profile", "rows");
+    for error in c
+        .validation
+        .errors
+        .iter()
+        .chain(&c.validation.domain_errors)
+    {
+        let cells: String = error
+            .per_output
+            .iter()
+            .map(|&e| format!("{:>10}", percent(e)))
+            .collect();
+        println!("  {:<width$} {:>5}{cells}", error.profile, error.rows);
+    }
+    let seeds: String = c
+        .mapping
+        .outputs
+        .iter()
+        .map(|o| seeds_validation_error(c.mapping.name, o).map_or_else(|| "-".to_owned(), percent))
+        .map(|cell| format!("{cell:>10}"))
+        .collect();
+    println!("  {:<width$} {:>5}{seeds}", "seeds (thesis, all)", "");
+}
+
+/// Errors on all validation rows of models trained on the training data: the chosen and the
+/// default XGBoost setting and the linear baselines, with training times; and the tuning
+/// record's cross-validated errors.
+fn print_comparison(c: &Checked, train: Option<&Path>, models: &Path) -> anyhow::Result<()> {
+    let meta = c.model.meta();
+    let Some(training) = training_samples(c, train)? else {
+        return Ok(());
+    };
+    let outputs = c.mapping.outputs;
+    // (model, errors per output or why there are none, training time in s)
+    let mut rows: Vec<(String, Result<Vec<f64>, String>, f64)> = Vec::new();
+    let mut settings = vec![("as trained", meta.hyper_parameters.clone())];
+    let flipped = HyperParameters {
+        backbone: !meta.hyper_parameters.backbone,
+        ..meta.hyper_parameters.clone()
+    };
+    settings.push(if flipped.backbone {
+        ("the same on the backbone", flipped)
+    } else {
+        ("the same without backbone", flipped)
+    });
+    if meta.hyper_parameters != HyperParameters::default() {
+        settings.push(("XGBoost defaults", HyperParameters::default()));
+    }
+    for (label, params) in settings {
+        let started = Instant::now();
+        // A backbone that cannot be fitted on these rows makes its row not applicable.
+        let errors = TrainedModel::fit(c.mapping, &training, &params)
+            .and_then(|model| model.evaluate(&c.validation.samples))
+            .map_err(|e| format!("not applicable: {e}"));
+        let seconds = started.elapsed().as_secs_f64();
+        rows.push((
+            format!("xgboost, {label}: {}", describe(&params)),
+            errors,
+            seconds,
+        ));
+    }
+    for (label, baseline) in [
+        ("linear (linfa)", Baseline::Linear),
+        ("log-linear (linfa, ln of features)", Baseline::LogLinear),
+        (
+            "backbone alone: mu = A J^b, phi_loc by eq 6.7",
+            Baseline::LocalRheology,
+        ),
+    ] {
+        let score = evaluate_baseline(baseline, &training, &c.validation.samples);
+        let seconds = score
+            .as_ref()
+            .map_or(f64::NAN, |s| s.training_time.as_secs_f64());
+        rows.push((
+            label.to_owned(),
+            score
+                .map(|s| s.per_output)
+                .map_err(|e| format!("not applicable: {e}")),
+            seconds,
+        ));
+    }
+    println!(
+        "  on all validation rows, each model trained on {} ({} rows):",
+        training.source_name,
+        training.n_rows()
+    );
+    let width = rows
+        .iter()
+        .map(|(label, _, _)| label.len())
+        .max()
+        .unwrap_or(0);
+    let header: String = outputs.iter().map(|o| format!("{o:>10}")).collect();
+    println!("  {:<width$}{header}  {:>10}", "model", "training");
+    for (label, errors, seconds) in rows {
+        match errors {
+            Ok(errors) => {
+                let cells: String = errors
+                    .iter()
+                    .map(|&e| format!("{:>10}", percent(e)))
+                    .collect();
+                println!("  {label:<width$}{cells}  {:>7.3} ms", 1e3 * seconds);
+            }
+            Err(why) => println!("  {label:<width$}  {why}"),
+        }
+    }
+    match Tuning::load(models, c.mapping.name) {
+        Ok(tuning) => println!(
+            "  cross-validation on the training data ({} folds, one simulation left out each): chosen {}; defaults {}",
+            tuning.folds,
+            errors_by_output(outputs, &tuning.chosen.per_output),
+            errors_by_output(outputs, &tuning.untuned.per_output)
+        ),
+        Err(_) => println!(
+            "  no tuning record {} (trained with --no-tune)",
+            Tuning::path(models, c.mapping.name).display()
+        ),
+    }
+    Ok(())
+}
+
+/// The mapping's rows of its training data: `--train`, or the file the sidecar names. `None`
+/// (with a note) when the sidecar's file is gone or changed; an error when `--train` is not
+/// the data the model was trained on.
+fn training_samples(c: &Checked, train: Option<&Path>) -> anyhow::Result<Option<Samples>> {
+    let recorded = &c.model.meta().training_data;
+    let path = train.map_or_else(|| PathBuf::from(&recorded.source), Path::to_path_buf);
+    let samples = Dataset::read_csv(&path).and_then(|data| Samples::from_dataset(&data, c.mapping));
+    let problem = match &samples {
+        Ok(s) if format!("{:016x}", s.source_fingerprint) == recorded.fnv1a_64 => None,
+        Ok(_) => Some(format!(
+            "{} is not the file model `{}` was trained on (its hash differs)",
+            path.display(),
+            c.mapping.name
+        )),
+        Err(e) => Some(e.to_string()),
+    };
+    match (problem, train) {
+        (None, _) => Ok(samples.ok()),
+        (Some(problem), Some(_)) => anyhow::bail!("--train: {problem}"),
+        (Some(problem), None) => {
+            println!("  comparisons with XGBoost's defaults and the baselines skipped: {problem}; pass --train FILE");
+            Ok(None)
+        }
+    }
+}
+
+/// The errors of mapping theta next to those of mapping dv, profile by profile.
+fn print_theta_vs_dv(checked: &[Checked]) {
+    let find = |name: &str| checked.iter().find(|c| c.mapping.name == name);
+    let (Some(theta), Some(dv)) = (find("theta"), find("dv")) else {
+        return;
+    };
+    println!("\ntheta vs dv: relative L2 error on each validation profile");
+    let width = theta
+        .validation
+        .errors
+        .iter()
+        .map(|e| e.profile.len())
+        .max()
+        .unwrap_or(0)
+        .max(24);
+    println!(
+        "  {:<width$} {:<8}{:>10}{:>10}  lower",
+        "profile", "output", "theta", "dv"
+    );
+    for t in &theta.validation.errors {
+        let Some(d) = dv.validation.errors.iter().find(|d| d.profile == t.profile) else {
+            continue;
+        };
+        for (j, output) in theta.mapping.outputs.iter().enumerate() {
+            let (a, b) = (t.per_output[j], d.per_output[j]);
+            let lower = if a < b {
+                "theta"
+            } else if b < a {
+                "dv"
+            } else {
+                "tie"
+            };
+            println!(
+                "  {:<width$} {:<8}{:>10}{:>10}  {lower}",
+                t.profile,
+                output,
+                percent(a),
+                percent(b)
+            );
+        }
+    }
+}
+
+/// Each model's gain importance, as shares of the total.
+fn print_importance(checked: &[Checked]) -> anyhow::Result<()> {
+    println!("\nfeature importance (gain: mean loss reduction of the splits on a feature, as a share of the sum):");
+    for c in checked {
+        let gains = c.model.feature_importance()?;
+        let total: f64 = gains.iter().map(|(_, g)| g).sum();
+        let shares: Vec<String> = gains
+            .iter()
+            .map(|(name, g)| {
+                format!(
+                    "{name} {:.1} %",
+                    if total > 0.0 { 100.0 * g / total } else { 0.0 }
+                )
+            })
+            .collect();
+        println!("  {:<6} {}", c.mapping.name, shares.join(", "));
+    }
+    Ok(())
+}
+
+/// One figure per profile in `dir`: each output of the checked mappings along y, simulated
+/// and predicted. Returns the files written.
+fn write_figures(data: &Dataset, checked: &[Checked], dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let mut outputs: Vec<&str> = checked
+        .iter()
+        .flat_map(|c| c.mapping.outputs.iter().copied())
+        .collect();
+    let columns = data.column_names();
+    outputs.sort_by_key(|o| columns.iter().position(|c| c == o));
+    outputs.dedup();
+    let y = data.column("y")?;
+    let profiles = data.text(PROFILE_COLUMN)?;
+    let mut files = Vec::new();
+    for (k, profile) in profile_names(data)?.iter().enumerate() {
+        let rows: Vec<usize> = (0..data.n_rows())
+            .filter(|&r| &profiles[r] == profile)
+            .collect();
+        let mut panels = Vec::new();
+        for &output in &outputs {
+            let values = data.column(output)?;
+            let se_name = format!("{output}_se");
+            let errors = if columns.contains(&se_name) {
+                Some(data.column(&se_name)?)
+            } else {
+                None
+            };
+            let mut series = vec![Series {
+                name: "simulated".to_owned(),
+                points: rows.iter().map(|&r| (y[r], values[r])).collect(),
+                errors: errors.map(|se| rows.iter().map(|&r| se[r]).collect()),
+            }];
+            for c in checked {
+                let Some(j) = c.mapping.outputs.iter().position(|o| *o == output) else {
+                    continue;
+                };
+                let v = &c.validation;
+                series.push(Series {
+                    name: format!("mapping {}", c.mapping.name),
+                    points: (0..v.samples.n_rows())
+                        .filter(|&i| &v.profiles[i] == profile)
+                        .map(|i| (y[v.samples.data_rows[i] - 1], v.predicted[[i, j]]))
+                        .collect(),
+                    errors: None,
+                });
+            }
+            panels.push(Panel {
+                quantity: output.to_owned(),
+                series,
+            });
+        }
+        let path = dir.join(format!("profile_{}_{}.svg", k + 1, file_stem(profile)));
+        profile_panels(&path, &figure_title(data, profile, rows[0])?, &panels)?;
+        files.push(path);
+    }
+    Ok(files)
+}
+
+/// `u_inf = <profile>`, with L_y and phi of the profile's first row when the data has them.
+fn figure_title(data: &Dataset, profile: &str, row: usize) -> anyhow::Result<String> {
+    let mut title = format!("u_inf = {profile}");
+    for column in ["L_y", "phi"] {
+        if data.column_names().iter().any(|c| c == column) {
+            title += &format!(", {column} = {}", data.text(column)?[row]);
+        }
+    }
+    Ok(title + "; simulated vs predicted")
+}
+
+/// A file-name-safe form of a profile expression: runs of other characters become `_`.
+fn file_stem(profile: &str) -> String {
+    let mut stem = String::new();
+    for ch in profile.chars() {
+        if ch.is_ascii_alphanumeric() {
+            stem.push(ch);
+        } else if !stem.ends_with('_') {
+            stem.push('_');
+        }
+    }
+    stem.trim_matches('_').chars().take(60).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::file_stem;
+
+    #[test]
+    fn file_stems_keep_letters_and_digits_only() {
+        assert_eq!(file_stem("0.1*sin(2*pi*y/L)^3"), "0_1_sin_2_pi_y_L_3");
+        assert_eq!(file_stem("  "), "");
+    }
+}

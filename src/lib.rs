@@ -1,0 +1,16 @@
+//! `suspflow`: the command-line package of the workspace. The physics lives in the `sim`
+//! crate (particle simulator) and the surrogate models in `surrogate`; this crate holds one
+//! module per command (`commands`), the report sections (`report`), the figures (`plots`) and
+//! the helpers the commands share. Physics notes: `docs/physics.md`.
+
+pub mod commands;
+mod dataset_file;
+mod file_lock;
+mod output_guard;
+mod plots;
+mod prediction_timing;
+mod report;
+mod scene_work;
+mod surrogate_text;
+mod threads;
+mod training_overlap;

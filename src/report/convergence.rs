@@ -1,0 +1,246 @@
+//! Statistical error of a simulation against its run length: one run
+//! of a scene, steady state as usual, then `partial + reference` snapshots. The first
+//! `partial` snapshots give profiles averaged over n = partial / 2^k snapshots; the last
+//! `reference` snapshots, independent of them, give the long reference profile. The error
+//! of a short run is the relative L2 difference (over bins, as eq 6.6 but unscaled)
+//! between its profile and the reference; for independent averages of a steady, mixing
+//! run its square is expected to be `c (1/n + 1/reference)`, so it falls as 1/sqrt(n)
+//! until n approaches the reference length.
+use sim::input::scene::Scene;
+use sim::run::{Phase, RunOptions, RunSummary};
+use sim::sampling::bin_averages::{BinAverages, Observables};
+use sim::sampling::block_sums::BlockSums;
+use sim::sampling::snapshot::{self, field::FIELDS};
+use sim::SimError;
+use std::time::Instant;
+
+/// Observables whose error is measured, with their column in [`Observables::columns`].
+pub const OBSERVABLES: [&str; 3] = ["phi_loc", "mu", "u"];
+
+/// Number of blocks of the partial profiles' batch-means standard errors.
+const PARTIAL_BLOCKS: usize = 4;
+
+/// A profile averaged over the first `snapshots` steady snapshots.
+pub struct PartialAverage {
+    pub snapshots: usize,
+    /// Strain averaged over, `snapshots * sample_strain`.
+    pub averaging_strain: f64,
+    /// Wall time from the start of the run (equilibration included) to its last snapshot, s.
+    pub wall_s: f64,
+    pub profile: BinAverages,
+    /// Relative L2 difference from the reference of each of [`OBSERVABLES`].
+    pub error: [f64; 3],
+}
+
+/// One scene's convergence run.
+pub struct ConvergenceRun {
+    pub scene: Scene,
+    pub summary: RunSummary,
+    /// Wall time to the steady state, s.
+    pub wall_to_steady_s: f64,
+    /// Shortest first, `partial / 2^k` snapshots down to 2 per block.
+    pub partials: Vec<PartialAverage>,
+    /// The last `reference` snapshots, 10 blocks.
+    pub reference: BinAverages,
+    pub reference_snapshots: usize,
+}
+
+/// Values of observable `name` in `o`.
+pub fn column<'a>(o: &'a Observables, name: &str) -> &'a [f64] {
+    match name {
+        "phi_loc" => &o.phi_loc,
+        "mu" => &o.mu,
+        "u" => &o.u,
+        "J" => &o.j,
+        "Theta" => &o.theta,
+        "Delta_v" => &o.delta_v,
+        _ => unreachable!("observable {name} is not measured by the report"),
+    }
+}
+
+/// `||a - b|| / ||b - offset||` over the bins where both are finite (NaN when none are).
+pub fn relative_l2(a: &[f64], b: &[f64], offset: f64) -> f64 {
+    let (mut d2, mut b2) = (0.0, 0.0);
+    for (x, y) in a
+        .iter()
+        .zip(b)
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+    {
+        d2 += (x - y) * (x - y);
+        b2 += (y - offset) * (y - offset);
+    }
+    (d2 / b2).sqrt()
+}
+
+/// Snapshot counts of the partial profiles: `partial / 2^k`, at least 2 per block.
+fn partial_counts(partial: usize) -> Vec<usize> {
+    let mut n: Vec<usize> = std::iter::successors(Some(partial), |&n| Some(n / 2))
+        .take_while(|&n| n >= 2 * PARTIAL_BLOCKS)
+        .collect();
+    n.reverse();
+    n
+}
+
+/// `snaps` (one sum per snapshot) grouped into `blocks` consecutive blocks.
+fn blocks_of(snaps: &[Vec<f64>], blocks: usize, n_bins: usize) -> BlockSums {
+    let mut b = BlockSums::new(n_bins, blocks, snaps.len() / blocks);
+    for s in &snaps[..b.capacity()] {
+        b.current().iter_mut().zip(s).for_each(|(acc, v)| *acc += v);
+        b.commit();
+    }
+    b
+}
+
+/// Runs `scene` (its `run.snapshots` and `run.blocks` are replaced) to the steady state,
+/// then `partial + reference` snapshots, and measures the partial profiles against the
+/// reference. `partial` must be a multiple of 4 and `reference` of 10.
+pub fn run(scene: &Scene, partial: usize, reference: usize) -> Result<ConvergenceRun, SimError> {
+    let mut file = scene.file.clone();
+    file.run.snapshots = partial + reference;
+    file.run.blocks = 2;
+    let scene = Scene::from_file(file, false)?;
+    let ctx = sim::run::binning_context(&scene);
+    let nb = scene.n_bins;
+    let started = Instant::now();
+    let mut snaps: Vec<Vec<f64>> = Vec::with_capacity(partial);
+    let mut walls: Vec<f64> = Vec::with_capacity(partial);
+    let mut reference_sums = BlockSums::new(nb, 10, reference / 10);
+    let mut wall_to_steady_s = f64::NAN;
+    let mut seen = 0;
+    let outcome = sim::run::run(&scene, &RunOptions::default(), &mut |p, s| {
+        if p.phase != Phase::Averaging {
+            return;
+        }
+        if wall_to_steady_s.is_nan() {
+            wall_to_steady_s = started.elapsed().as_secs_f64();
+        }
+        if p.snapshots == seen {
+            return;
+        }
+        seen = p.snapshots;
+        let mut sums = vec![0.0; FIELDS * nb];
+        snapshot::accumulate(s, &ctx.bins, &mut sums);
+        if snaps.len() < partial {
+            snaps.push(sums);
+            walls.push(started.elapsed().as_secs_f64());
+        } else if !reference_sums.full() {
+            reference_sums
+                .current()
+                .iter_mut()
+                .zip(&sums)
+                .for_each(|(acc, v)| *acc += v);
+            reference_sums.commit();
+        }
+    })?;
+    let reference_profile = BinAverages::from_blocks(&ctx, &reference_sums)?;
+    let partials = partial_counts(partial)
+        .into_iter()
+        .map(|n| {
+            let profile =
+                BinAverages::from_blocks(&ctx, &blocks_of(&snaps[..n], PARTIAL_BLOCKS, nb))?;
+            let error = OBSERVABLES.map(|o| {
+                relative_l2(
+                    column(&profile.mean, o),
+                    column(&reference_profile.mean, o),
+                    0.0,
+                )
+            });
+            Ok(PartialAverage {
+                snapshots: n,
+                averaging_strain: n as f64 * scene.file.run.sample_strain,
+                wall_s: walls[n - 1],
+                profile,
+                error,
+            })
+        })
+        .collect::<Result<Vec<_>, SimError>>()?;
+    Ok(ConvergenceRun {
+        summary: outcome.summary,
+        scene,
+        wall_to_steady_s,
+        partials,
+        reference: reference_profile,
+        reference_snapshots: reference,
+    })
+}
+
+/// Averaging strain beyond which snapshot averages decorrelate: in the validation scenes
+/// the error hardly falls between 0.08 and 0.32 strain of averaging (reports/full).
+pub const DECORRELATED_STRAIN: f64 = 1.0;
+
+/// `c` of the noise law `error^2 = c (1/n + 1/reference)` through one point `(n, error)`,
+/// the longest partial average: the law then holds at least where it is used to extrapolate.
+pub fn noise_constant(n: f64, error: f64, reference: f64) -> f64 {
+    error * error / (1.0 / n + 1.0 / reference)
+}
+
+/// Least-squares slope of `ln error` against `ln n`, over `points` `(n, error)`; NaN with
+/// fewer than two usable points.
+pub fn log_slope(points: &[(f64, f64)]) -> f64 {
+    let p: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(n, e)| *n > 0.0 && *e > 0.0 && e.is_finite())
+        .map(|(n, e)| (n.ln(), e.ln()))
+        .collect();
+    if p.len() < 2 {
+        return f64::NAN;
+    }
+    let m = p.len() as f64;
+    let (mx, my) = (
+        p.iter().map(|q| q.0).sum::<f64>() / m,
+        p.iter().map(|q| q.1).sum::<f64>() / m,
+    );
+    let sxy: f64 = p.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = p.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
+/// The slope of [`log_slope`] over the partial averages of at least
+/// [`DECORRELATED_STRAIN`], with the reference's own noise taken out of each error
+/// (`error * sqrt(R / (R + n))`, the noise law's share of the partial average): -1/2 when
+/// the error is purely statistical.
+pub fn decorrelated_slope(run: &ConvergenceRun, observable: usize) -> f64 {
+    let r = run.reference_snapshots as f64;
+    let points: Vec<(f64, f64)> = run
+        .partials
+        .iter()
+        .filter(|p| p.averaging_strain >= DECORRELATED_STRAIN - 1e-9)
+        .map(|p| {
+            (
+                p.snapshots as f64,
+                p.error[observable] * (r / (r + p.snapshots as f64)).sqrt(),
+            )
+        })
+        .collect();
+    log_slope(&points)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn partial_counts_halve_down_to_two_snapshots_per_block() {
+        assert_eq!(partial_counts(64), vec![8, 16, 32, 64]);
+        assert_eq!(partial_counts(512), vec![8, 16, 32, 64, 128, 256, 512]);
+    }
+
+    #[test]
+    fn the_noise_law_through_a_point_and_the_slope_of_a_power_law() {
+        let c: f64 = 0.3;
+        let e = (c * (1.0 / 8.0 + 1.0 / 100.0)).sqrt();
+        assert!((noise_constant(8.0, e, 100.0) - c).abs() < 1e-12);
+        let pure: Vec<(f64, f64)> = [4.0, 40.0, 400.0]
+            .iter()
+            .map(|&n: &f64| (n, 2.0 / n.sqrt()))
+            .collect();
+        assert!((log_slope(&pure) + 0.5).abs() < 1e-12);
+        assert!(log_slope(&pure[..1]).is_nan());
+    }
+
+    #[test]
+    fn relative_l2_skips_undefined_bins_and_uses_the_offset() {
+        let e = relative_l2(&[1.0, f64::NAN, 3.0], &[2.0, 5.0, 3.0], 1.0);
+        assert!((e - (1.0f64 / 5.0).sqrt()).abs() < 1e-12);
+    }
+}

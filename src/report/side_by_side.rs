@@ -1,0 +1,233 @@
+//! Simulator and surrogate side by side: for each validation profile,
+//! the surrogate's error against the long reference run of section 1 (relative L2 on
+//! outputs scaled with the model's training ranges, eq 6.6) and its end-to-end time per
+//! profile, and the shortest simulation, equilibration included, whose profile is as
+//! close to the same reference in the same metric: measured among the partial runs when
+//! one gets there, else extrapolated from the longest
+//! with `error^2 = c (1/n + 1/reference)`.
+use crate::prediction_timing::time_mapping;
+use crate::report::convergence::{column, noise_constant, relative_l2, ConvergenceRun};
+use anyhow::Context;
+use std::fmt::Write as _;
+use std::path::Path;
+use surrogate::{relative_l2_error, Dataset, Mapping, Predictor, Samples, MAPPINGS};
+
+/// How long a simulation must run to match an error.
+pub enum SimulationCost {
+    /// A partial run reached it: snapshots, total strain, wall time (s).
+    Measured(usize, f64, f64),
+    /// Beyond the partial runs: the same, from the noise law.
+    Extrapolated(f64, f64, f64),
+    /// Not below the reference's own noise, `sqrt(c / reference)`.
+    BelowReferenceNoise(f64),
+}
+
+/// One line of the side-by-side table.
+pub struct Row {
+    pub scene_id: String,
+    pub mapping: &'static str,
+    pub output: &'static str,
+    pub surrogate_error: f64,
+    /// Median end-to-end time (load model, read profile CSV, predict), ms.
+    pub surrogate_ms: f64,
+    pub simulation: SimulationCost,
+    /// The reference's own noise in the same metric, `sqrt(c / reference)`.
+    pub reference_noise: f64,
+}
+
+/// A surrogate error below this multiple of the reference's noise is mostly that noise:
+/// the simulation length that matches it is uncertain by a large factor.
+const NEAR_NOISE: f64 = 1.25;
+
+/// Writes each run's reference profile to `dir/reference_<scene>.csv` and compares the
+/// models in `models` with the simulation on it.
+pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Result<Vec<Row>> {
+    let mut rows = Vec::new();
+    for run in runs {
+        let id = run.scene.file.name.clone();
+        let path = dir.join(format!("reference_{id}.csv"));
+        let csv = format!(
+            "{}\n{}",
+            sim::output::result_files::profile_header(),
+            sim::output::result_files::profile_rows(&run.scene, &run.reference, &run.summary)
+        );
+        sim::output::checkpoint::write_atomic(&path, csv.as_bytes())?;
+        let data = Dataset::read_csv(&path)?;
+        for mapping in &MAPPINGS {
+            let model = Predictor::load(models, mapping.name).with_context(|| {
+                format!(
+                    "loading the {} model from {}",
+                    mapping.name,
+                    models.display()
+                )
+            })?;
+            let errors = surrogate_errors(&model, mapping, &data)?;
+            let ms = time_mapping(mapping, models, &path, 20)?.median_ms;
+            for (k, &output) in mapping.outputs.iter().enumerate() {
+                let min = model.meta().scaling.ranges[k].min;
+                let (simulation, reference_noise) = simulation_cost(run, output, min, errors[k]);
+                rows.push(Row {
+                    scene_id: id.clone(),
+                    mapping: mapping.name,
+                    output,
+                    surrogate_error: errors[k],
+                    surrogate_ms: ms,
+                    simulation,
+                    reference_noise,
+                });
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// Relative L2 error of each output of `model` on `data`, scaled as in training.
+fn surrogate_errors(
+    model: &Predictor,
+    mapping: &Mapping,
+    data: &Dataset,
+) -> anyhow::Result<Vec<f64>> {
+    let samples = Samples::from_dataset(data, mapping)?;
+    let predicted = model.predict_features(samples.features.view())?;
+    let scaling = &model.meta().scaling;
+    let truth = scaling.scale(samples.outputs.view())?;
+    Ok(relative_l2_error(
+        truth.view(),
+        scaling.scale(predicted.view())?.view(),
+    )?)
+}
+
+/// The shortest run of `run`'s scene whose `output` profile is within `target` of the
+/// reference, in the scaled metric (offset `min`, the training minimum), and the
+/// reference's own noise in that metric.
+fn simulation_cost(
+    run: &ConvergenceRun,
+    output: &str,
+    min: f64,
+    target: f64,
+) -> (SimulationCost, f64) {
+    let reference = column(&run.reference.mean, output);
+    let points: Vec<(f64, f64)> = run
+        .partials
+        .iter()
+        .map(|p| {
+            (
+                p.snapshots as f64,
+                relative_l2(column(&p.profile.mean, output), reference, min),
+            )
+        })
+        .collect();
+    let strain_at = |n: f64| run.summary.strain_to_steady + n * run.scene.file.run.sample_strain;
+    let r = run.reference_snapshots as f64;
+    let (last, &(n_last, e_last)) = (
+        run.partials
+            .last()
+            .expect("a convergence run has partial profiles"),
+        points.last().expect("one error per partial profile"),
+    );
+    let c = noise_constant(n_last, e_last, r);
+    let floor = (c / r).sqrt();
+    if let Some((p, _)) = run
+        .partials
+        .iter()
+        .zip(&points)
+        .find(|(_, (_, e))| *e <= target)
+    {
+        return (
+            SimulationCost::Measured(p.snapshots, strain_at(p.snapshots as f64), p.wall_s),
+            floor,
+        );
+    }
+    let inverse_n = target * target / c - 1.0 / r;
+    if inverse_n <= 0.0 {
+        return (SimulationCost::BelowReferenceNoise(floor), floor);
+    }
+    let wall_per_snapshot = (last.wall_s - run.wall_to_steady_s) / last.snapshots as f64;
+    let n = 1.0 / inverse_n;
+    (
+        SimulationCost::Extrapolated(
+            n,
+            strain_at(n),
+            run.wall_to_steady_s + n * wall_per_snapshot,
+        ),
+        floor,
+    )
+}
+
+/// Section 3 of the report.
+pub fn markdown(rows: &[Row]) -> String {
+    let mut md = String::from("## 3. Side by side\n\n");
+    let _ = write!(md, "For each validation profile: the surrogate's error against the long reference run of section 1 \
+        (relative L2 on outputs scaled with the training ranges, eq 6.6, with the reference run's own J, Theta or \
+        Delta_v and phi as inputs) and its time per profile (load model + read CSV + predict, median of 20), next to \
+        the shortest simulation from rest whose profile is as close to the same reference in the same metric. \
+        A simulation marked extrapolated did not reach the error within the partial averages; its length follows from the \
+        noise law `c (1/n + 1/R)` through the longest one. Where the surrogate's error is below {NEAR_NOISE} times the \
+        reference's own noise `sqrt(c/R)`, most of it is that noise, and the matching simulation length is uncertain by a \
+        large factor (marked uncertain). The surrogate's time does not include obtaining its inputs.\n\n");
+    md.push_str("| profile | mapping: output | surrogate error | surrogate time | simulation to the same error | simulation wall time |\n|---|---|---|---|---|---|\n");
+    for r in rows {
+        let uncertain = if near_noise(r) {
+            format!(
+                "; uncertain: reference noise {:.2} %",
+                100.0 * r.reference_noise
+            )
+        } else {
+            String::new()
+        };
+        let (run, wall) = match r.simulation {
+            SimulationCost::Measured(n, strain, wall) => (
+                format!("{n} snapshots, strain {strain:.1} (measured{uncertain})"),
+                minutes(wall),
+            ),
+            SimulationCost::Extrapolated(n, strain, wall) => (
+                format!("{n:.0} snapshots, strain {strain:.1} (extrapolated{uncertain})"),
+                minutes(wall),
+            ),
+            SimulationCost::BelowReferenceNoise(floor) => (
+                format!(
+                    "not measurable: below the reference's own noise {:.2} %",
+                    100.0 * floor
+                ),
+                "-".into(),
+            ),
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {}: {} | {:.2} % | {:.1} ms | {run} | {wall} |",
+            r.scene_id,
+            r.mapping,
+            r.output,
+            100.0 * r.surrogate_error,
+            r.surrogate_ms
+        );
+    }
+    md.push('\n');
+    for r in rows
+        .iter()
+        .filter(|r| r.mapping == "theta" && !near_noise(r))
+    {
+        if let SimulationCost::Measured(_, _, wall) | SimulationCost::Extrapolated(_, _, wall) =
+            r.simulation
+        {
+            let _ = writeln!(md, "- {}: the surrogate gives {:.1} % error on {} in {:.1} ms where the simulator needs {}.",
+                r.scene_id, 100.0 * r.surrogate_error, r.output, r.surrogate_ms, minutes(wall));
+        }
+    }
+    md.push('\n');
+    md
+}
+
+/// Whether `r`'s surrogate error is mostly the reference's own noise.
+fn near_noise(r: &Row) -> bool {
+    r.surrogate_error < NEAR_NOISE * r.reference_noise
+}
+
+/// A wall time in seconds, as minutes when over two minutes, e.g. `48 s`, `3.2 min`.
+fn minutes(s: f64) -> String {
+    if s < 120.0 {
+        format!("{s:.0} s")
+    } else {
+        format!("{:.1} min", s / 60.0)
+    }
+}

@@ -1,0 +1,163 @@
+//! Stability on stiff and extreme cases: one parameter at a time away
+//! from a base scene (k_n, xi_min, phi, amplitude, size ratio), each at several multiples of
+//! the automatic time step. Each case is a short run through the ordinary `sim::run`, so
+//! the blow-up checks under test are the real ones.
+use rayon::prelude::*;
+use sim::input::scene::{Scene, SceneFile};
+use sim::run::RunOptions;
+use sim::SimError;
+
+/// How long each case runs, and how big the base box is.
+#[derive(Clone, Copy)]
+pub struct SweepSize {
+    /// Strain of each of the 4 steady-state windows.
+    pub window_strain: f64,
+    /// Snapshots averaged after them (0.01 strain apart).
+    pub snapshots: usize,
+    /// Base box edge (x and z; y is 1.5x), units a.
+    pub box_edge: f64,
+}
+
+/// One case of the sweep.
+pub struct Case {
+    pub parameter: &'static str,
+    pub value: f64,
+    pub dt_factor: f64,
+}
+
+/// What a case did.
+pub struct CaseResult {
+    pub case: Case,
+    /// `stable`, `inaccurate` (finished, momentum residual above [`INACCURATE_RESIDUAL`]),
+    /// `blow-up`, `not steady`, `refused` (invalid scene or packing).
+    pub status: &'static str,
+    pub dt: f64,
+    /// What limits dt, with the smallest critical step, e.g. `lubrication (8.83e-4)`.
+    pub dt_limit: String,
+    pub max_overlap: f64,
+    pub momentum_residual: f64,
+    /// The error message, if any.
+    pub message: String,
+    /// For a failure: whether the message names step, particle and likely cause.
+    pub cause_named: bool,
+}
+
+/// Parameter values swept (docs/physics.md section 1 defaults in the middle), and the dt multiples.
+pub const PARAMETERS: [(&str, &[f64]); 5] = [
+    ("k_n", &[1e3, 1e4, 1e5, 1e6]),
+    ("xi_min", &[1e-2, 1e-3, 1e-4, 1e-5]),
+    ("phi", &[0.40, 0.50, 0.56, 0.60, 0.62]),
+    ("amplitude", &[0.01, 0.1, 0.3, 1.0]),
+    ("size_ratio", &[1.0, 1.4, 2.0, 4.0]),
+];
+/// Multiples 0.5-4 of the automatic step, plus 8 and 16 to show that instability, once it comes, is caught.
+pub const DT_FACTORS: [f64; 6] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0];
+
+/// A finished run whose momentum residual exceeds this is reported as inaccurate: short
+/// stable runs at the automatic dt stay below 0.1 (the base case at 0.015).
+pub const INACCURATE_RESIDUAL: f64 = 0.1;
+
+/// Every (parameter value, dt factor) pair, for the parameters named in `only` (all when empty).
+pub fn cases(only: &[String]) -> Vec<Case> {
+    PARAMETERS
+        .iter()
+        .filter(|(p, _)| only.is_empty() || only.iter().any(|o| o == p))
+        .flat_map(|&(parameter, values)| {
+            values.iter().flat_map(move |&value| {
+                DT_FACTORS.iter().map(move |&dt_factor| Case {
+                    parameter,
+                    value,
+                    dt_factor,
+                })
+            })
+        })
+        .collect()
+}
+
+/// The scene of `case`: phi 0.5, `0.15 sin(2 pi y/L)`, radii 1 : 1.4, defaults otherwise,
+/// with the one parameter changed; the box grows when large spheres need it.
+fn scene_file(case: &Case, size: SweepSize) -> SceneFile {
+    let (mut phi, mut amplitude, mut ratio, mut k_n, mut xi_min) = (0.5, 0.15, 1.4, 1e4, 1e-3);
+    match case.parameter {
+        "k_n" => k_n = case.value,
+        "xi_min" => xi_min = case.value,
+        "phi" => phi = case.value,
+        "amplitude" => amplitude = case.value,
+        _ => ratio = case.value,
+    }
+    // Twice the interaction range plus skin, with room to spare, rounded up to whole bins.
+    let edge = size
+        .box_edge
+        .max((2.2 * (2.0 * ratio * 1.025 + 0.1) / 2.0).ceil() * 2.0);
+    let text = format!(
+        "name = \"{p}_{v}_dt{f}\"\nseed = 7\n[box]\nl_x = {edge}\nl_y = {ly}\nl_z = {edge}\n\
+         [particles]\nphi = {phi}\nradii = [1.0, {ratio}]\n[fluid]\nprofile = \"{amplitude}*sin(2*pi*y/L)\"\n\
+         [forces]\nk_n = {k_n}\nxi_min = {xi_min}\n\
+         [run]\ndt_factor = {f}\nsample_strain = 0.01\nwindow_strain = {w}\nmax_strain = {m}\nsteady_chi2 = 1e9\n\
+         snapshots = {s}\nblocks = 4\n",
+        p = case.parameter, v = case.value, f = case.dt_factor, ly = (edge * 0.75).ceil() * 2.0,
+        w = size.window_strain, m = 5.0 * size.window_strain, s = size.snapshots);
+    toml::from_str(&text).expect("the sweep writes valid scene TOML")
+}
+
+/// Runs one case to the end of its short averaging, or to its failure.
+fn run_case(case: Case, size: SweepSize) -> CaseResult {
+    let mut result = CaseResult {
+        case,
+        status: "refused",
+        dt: f64::NAN,
+        dt_limit: String::new(),
+        max_overlap: f64::NAN,
+        momentum_residual: f64::NAN,
+        message: String::new(),
+        cause_named: false,
+    };
+    let scene = match Scene::from_file(scene_file(&result.case, size), false) {
+        Ok(s) => s,
+        Err(e) => {
+            result.message = e.to_string();
+            return result;
+        }
+    };
+    let t = sim::integrate::timestep::TimeStep::for_scene(&scene);
+    let critical = t
+        .contact_critical
+        .min(t.drag_critical)
+        .min(t.lubrication_critical);
+    (result.dt, result.dt_limit) = (t.dt, format!("{} ({critical:.2e})", t.limit));
+    match sim::run::run(&scene, &RunOptions::default(), &mut |_, _| {}) {
+        Ok(out) => {
+            result.max_overlap = out.summary.max_overlap;
+            result.momentum_residual = out.summary.momentum_residual.unwrap_or(f64::NAN);
+            result.status = if result.momentum_residual <= INACCURATE_RESIDUAL {
+                "stable"
+            } else {
+                "inaccurate"
+            };
+        }
+        Err(e) => {
+            result.status = match e {
+                SimError::BlowUp { .. } => "blow-up",
+                SimError::NotSteady { .. } => "not steady",
+                _ => "refused",
+            };
+            result.cause_named = matches!(&e, SimError::BlowUp { cause, what, .. } if !cause.is_empty() && !what.is_empty());
+            result.message = e.to_string();
+        }
+    }
+    result
+}
+
+/// Runs `cases`, in parallel over cases (each case on one thread), in case order, calling
+/// `done` after each.
+pub fn sweep(cases: Vec<Case>, size: SweepSize, done: &(dyn Fn() + Sync)) -> Vec<CaseResult> {
+    cases
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|c| {
+            let r = run_case(c, size);
+            done();
+            r
+        })
+        .collect()
+}

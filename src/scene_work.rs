@@ -41,7 +41,7 @@ impl SceneWork {
                 path.display()
             ),
             Ok(_) => Ok(()),
-            Err(_) => Ok(sim::output::checkpoint::write_atomic(
+            Err(_) => Ok(sim::output::atomic_write::write_atomic(
                 &path,
                 text.as_bytes(),
             )?),
@@ -71,7 +71,7 @@ impl SceneWork {
 
     /// Records a failure (its reason) and drops the checkpoint.
     pub fn record_failure(&self, reason: &str) -> anyhow::Result<()> {
-        sim::output::checkpoint::write_atomic(
+        sim::output::atomic_write::write_atomic(
             &self.dir.join("failed.txt"),
             format!("{reason}\n").as_bytes(),
         )?;

@@ -2,7 +2,7 @@
 //! LAMMPS peer's scene (phi 0.54, u = 0.1 sin(2 pi y/L), L_y = 50, radii 1 : 1.4,
 //! k_n = 1e4, lubrication on, dt = 5e-4, 2000 warm-up + 10000 timed steps from rest).
 use serde::Serialize;
-use sim::input::scene::Scene;
+use sim::input::scene::{Scene, SceneFile};
 use sim::integrate::simulation::Simulation;
 use sim::run::initial_particles;
 use std::f64::consts::PI;
@@ -85,13 +85,15 @@ fn scene(n: usize, lubrication: bool, skin: Option<f64>) -> anyhow::Result<Scene
     let (phi, l_y) = (0.54, 50.0);
     let v_particles = (n / 2) as f64 * 4.0 / 3.0 * PI * (1.0 + 1.4f64.powi(3));
     let l = (v_particles / (phi * l_y)).sqrt();
-    let text = format!(
-        "name = \"bench{n}\"\nseed = 12345\n[box]\nl_x = {l}\nl_y = {l_y}\nl_z = {l}\n\
-         [particles]\nphi = {phi}\n[fluid]\nprofile = \"0.1*sin(2*pi*y/L)\"\n\
-         [forces]\nlubrication = {lubrication}\n[run]\ndt = 5e-4\n{}",
-        skin.map(|s| format!("skin = {s}\n")).unwrap_or_default()
-    );
-    Ok(Scene::from_toml(&text, false)?)
+    let mut f =
+        SceneFile::with_defaults(&format!("bench{n}"), [l, l_y, l], phi, "0.1*sin(2*pi*y/L)");
+    f.seed = 12345;
+    f.forces.lubrication = lubrication;
+    f.run.dt = Some(5e-4);
+    if let Some(skin) = skin {
+        f.run.skin = skin;
+    }
+    Ok(Scene::from_file(f, false)?)
 }
 
 fn measure(n: usize, threads: usize, args: &Args) -> anyhow::Result<Record> {

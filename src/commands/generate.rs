@@ -402,8 +402,8 @@ fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()>
         }
         table.write_record(&row)?;
     }
-    sim::output::checkpoint::write_atomic(&outputs.dataset, dataset.to_text().as_bytes())?;
-    sim::output::checkpoint::write_atomic(&outputs.scene_table, &table.into_inner()?)?;
+    sim::output::atomic_write::write_atomic(&outputs.dataset, dataset.to_text().as_bytes())?;
+    sim::output::atomic_write::write_atomic(&outputs.scene_table, &table.into_inner()?)?;
     Ok(())
 }
 

@@ -30,7 +30,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     let merged = merged.expect("clap requires at least one part");
-    sim::output::checkpoint::write_atomic(&args.out, merged.to_text().as_bytes())?;
+    sim::output::atomic_write::write_atomic(&args.out, merged.to_text().as_bytes())?;
     println!(
         "{}: {} rows from {} scenes in {} files",
         args.out.display(),

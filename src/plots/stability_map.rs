@@ -2,7 +2,7 @@
 //! its stability map, one row per (parameter, value), one column per dt multiple, each
 //! cell coloured by the outcome (green stable, yellow finished but inaccurate, red blow-up
 //! caught and explained, orange any other failure), as SVG.
-use crate::report::stability_sweep::{self, CaseResult, SweepSize, DT_FACTORS};
+use crate::report::stability_sweep::{self, box_height, CaseResult, SweepSize, DT_FACTORS};
 use anyhow::Context;
 use plotters::prelude::*;
 use std::fmt::Write as _;
@@ -80,7 +80,7 @@ pub fn section(
     let _ = writeln!(md, "Base scene: phi 0.5, `0.15*sin(2*pi*y/L)`, radii 1 : 1.4, k_n 1e4, xi_min 1e-3, box {e} x {ly} x {e} \
         (larger for large spheres); one parameter changed at a time; each case runs 4 windows of {w} strain and {s} snapshots \
         0.01 strain apart. dt factor = multiple of the automatic step, which is 0.3 of the critical step. {} cases in {sweep_s:.0} s.\n",
-        results.len(), e = size.box_edge, ly = size.box_edge * 1.5, w = size.window_strain, s = size.snapshots);
+        results.len(), e = size.box_edge, ly = box_height(size.box_edge), w = size.window_strain, s = size.snapshots);
     md.push_str("![stability map](stability_map.svg)\n\n");
     md.push_str("| parameter | value | dt factor | outcome | dt | limit (critical step) | max overlap / a_min | momentum residual | message names the cause |\n");
     md.push_str("|---|---|---|---|---|---|---|---|---|\n");

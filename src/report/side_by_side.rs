@@ -51,7 +51,7 @@ pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Re
             sim::output::result_files::profile_header(),
             sim::output::result_files::profile_rows(&run.scene, &run.reference, &run.summary)
         );
-        sim::output::checkpoint::write_atomic(&path, csv.as_bytes())?;
+        sim::output::atomic_write::write_atomic(&path, csv.as_bytes())?;
         let data = Dataset::read_csv(&path)?;
         for mapping in &MAPPINGS {
             let model = Predictor::load(models, mapping.name).with_context(|| {

@@ -89,15 +89,30 @@ fn scene_file(case: &Case, size: SweepSize) -> SceneFile {
     let edge = size
         .box_edge
         .max((2.2 * (2.0 * ratio * 1.025 + 0.1) / 2.0).ceil() * 2.0);
-    let text = format!(
-        "name = \"{p}_{v}_dt{f}\"\nseed = 7\n[box]\nl_x = {edge}\nl_y = {ly}\nl_z = {edge}\n\
-         [particles]\nphi = {phi}\nradii = [1.0, {ratio}]\n[fluid]\nprofile = \"{amplitude}*sin(2*pi*y/L)\"\n\
-         [forces]\nk_n = {k_n}\nxi_min = {xi_min}\n\
-         [run]\ndt_factor = {f}\nsample_strain = 0.01\nwindow_strain = {w}\nmax_strain = {m}\nsteady_chi2 = 1e9\n\
-         snapshots = {s}\nblocks = 4\n",
-        p = case.parameter, v = case.value, f = case.dt_factor, ly = (edge * 0.75).ceil() * 2.0,
-        w = size.window_strain, m = 5.0 * size.window_strain, s = size.snapshots);
-    toml::from_str(&text).expect("the sweep writes valid scene TOML")
+    let mut f = SceneFile::with_defaults(
+        &format!("{}_{}_dt{}", case.parameter, case.value, case.dt_factor),
+        [edge, box_height(edge), edge],
+        phi,
+        &format!("{amplitude}*sin(2*pi*y/L)"),
+    );
+    f.seed = 7;
+    f.particles.radii = vec![1.0, ratio];
+    f.forces.k_n = k_n;
+    f.forces.xi_min = xi_min;
+    let run = &mut f.run;
+    run.dt_factor = case.dt_factor;
+    run.sample_strain = 0.01;
+    run.window_strain = size.window_strain;
+    run.max_strain = 5.0 * size.window_strain;
+    run.steady_chi2 = 1e9;
+    run.snapshots = size.snapshots;
+    run.blocks = 4;
+    f
+}
+
+/// Height `L_y` of a sweep box `edge` wide: 1.5 edges, rounded up to whole 2a bins.
+pub fn box_height(edge: f64) -> f64 {
+    (edge * 0.75).ceil() * 2.0
 }
 
 /// Runs one case to the end of its short averaging, or to its failure.

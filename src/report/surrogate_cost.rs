@@ -138,7 +138,7 @@ fn prediction_times(
             .filter(|l| l.split(',').next() == Some(id.as_str()))
             .collect();
         let path = dir.join(format!("validation_{id}.csv"));
-        sim::output::checkpoint::write_atomic(
+        sim::output::atomic_write::write_atomic(
             &path,
             format!("{header}\n{}\n", rows.join("\n")).as_bytes(),
         )?;

@@ -244,6 +244,30 @@ fn positive(field: &str, v: f64) -> Result<(), SimError> {
     }
 }
 
+impl SceneFile {
+    /// A scene with box `[l_x, l_y, l_z]`, volume fraction `phi` and flow `profile`, every
+    /// other field at its default: for scenes built in code (benchmarks, sweeps), which then
+    /// set the fields they change.
+    pub fn with_defaults(name: &str, box_len: [f64; 3], phi: f64, profile: &str) -> SceneFile {
+        let mut table = toml::Table::new();
+        table.insert("name".into(), name.into());
+        let mut box_ = toml::Table::new();
+        for (key, value) in ["l_x", "l_y", "l_z"].iter().zip(box_len) {
+            box_.insert((*key).into(), value.into());
+        }
+        table.insert("box".into(), box_.into());
+        let mut particles = toml::Table::new();
+        particles.insert("phi".into(), phi.into());
+        table.insert("particles".into(), particles.into());
+        let mut fluid = toml::Table::new();
+        fluid.insert("profile".into(), profile.into());
+        table.insert("fluid".into(), fluid.into());
+        toml::Value::Table(table)
+            .try_into()
+            .expect("every field without a default is given")
+    }
+}
+
 impl Scene {
     /// Reads and validates a scene file.
     pub fn from_path(path: &Path, strict: bool) -> Result<Scene, SimError> {

@@ -4,7 +4,7 @@
 use crate::error::SimError;
 use crate::input::scene::Scene;
 use crate::integrate::simulation::Simulation;
-use crate::output::checkpoint::write_atomic;
+use crate::output::atomic_write::write_atomic;
 use crate::run::RunSummary;
 use crate::sampling::bin_averages::{BinAverages, COLUMNS};
 use std::fmt::Write as _;

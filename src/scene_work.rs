@@ -6,10 +6,61 @@ use anyhow::{bail, Context};
 use sim::input::scene::SceneFile;
 use std::path::{Path, PathBuf};
 
+/// The fields of a finished scene's `summary.json` (written by `sim`'s `RunSummary`) that the
+/// scene table of `generate` shows, read typed.
+#[derive(Debug, serde::Deserialize)]
+pub struct SceneSummary {
+    pub dt: f64,
+    pub dt_limit: String,
+    pub steps: u64,
+    pub strain_to_steady: f64,
+    pub strain_total: f64,
+    pub momentum_residual: Option<f64>,
+    pub mean_overlap: f64,
+    pub max_overlap: f64,
+    pub wall_s: f64,
+    pub code_version: String,
+}
+
+impl SceneSummary {
+    /// Column names of [`SceneSummary::cells`], in order.
+    pub const COLUMNS: [&'static str; 10] = [
+        "dt",
+        "dt_limit",
+        "steps",
+        "strain_to_steady",
+        "strain_total",
+        "momentum_residual",
+        "mean_overlap",
+        "max_overlap",
+        "wall_s",
+        "code_version",
+    ];
+
+    /// The fields as table cells, numbers written as in the JSON file (an absent residual,
+    /// a run without drag, is an empty cell).
+    pub fn cells(&self) -> [String; 10] {
+        let number =
+            |v: f64| serde_json::Number::from_f64(v).map_or(String::new(), |n| n.to_string());
+        [
+            number(self.dt),
+            self.dt_limit.clone(),
+            self.steps.to_string(),
+            number(self.strain_to_steady),
+            number(self.strain_total),
+            self.momentum_residual.map_or(String::new(), number),
+            number(self.mean_overlap),
+            number(self.max_overlap),
+            number(self.wall_s),
+            self.code_version.clone(),
+        ]
+    }
+}
+
 /// Where a scene is.
 pub enum SceneStatus {
     /// Finished: its summary.json.
-    Done(serde_json::Value),
+    Done(SceneSummary),
     /// Failed for this reason; not retried unless asked.
     Failed(String),
     /// Not started, or interrupted (then it has a checkpoint).

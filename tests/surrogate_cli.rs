@@ -213,15 +213,9 @@ fn rel_l2(truth: &[f64], predicted: &[f64], (min, max): (f64, f64)) -> f64 {
 
 /// The cells of column `name` of a CSV file without quoted commas (a `predict` output).
 fn numeric_column(text: &str, name: &str) -> Vec<f64> {
-    let mut lines = text.lines();
-    let index = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .position(|c| c == name)
-        .unwrap();
-    lines
-        .map(|l| l.split(',').nth(index).unwrap().parse().unwrap())
+    text_column(text, name)
+        .iter()
+        .map(|c| c.parse().unwrap())
         .collect()
 }
 

@@ -15,7 +15,7 @@
 use crate::dataset_file::DatasetFile;
 use crate::file_lock::FileLock;
 use crate::output_guard;
-use crate::scene_work::{SceneStatus, SceneWork};
+use crate::scene_work::{SceneStatus, SceneSummary, SceneWork};
 use anyhow::{bail, Context};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use sim::input::grid::{Grid, GridScene};
@@ -328,20 +328,6 @@ fn run_scene(
     Ok(())
 }
 
-/// Columns of the scene table copied from each finished scene's summary.json.
-const SUMMARY_KEYS: [&str; 10] = [
-    "dt",
-    "dt_limit",
-    "steps",
-    "strain_to_steady",
-    "strain_total",
-    "momentum_residual",
-    "mean_overlap",
-    "max_overlap",
-    "wall_s",
-    "code_version",
-];
-
 /// Rewrites the dataset (finished scenes in grid order) and the scene table, atomically.
 fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()> {
     let mut dataset = DatasetFile {
@@ -364,7 +350,7 @@ fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()>
         "rho",
         "stokes",
     ];
-    header.extend(SUMMARY_KEYS);
+    header.extend(SceneSummary::COLUMNS);
     table.write_record(&header)?;
     for gs in scenes {
         let work = SceneWork::new(&outputs.work, &gs.id);
@@ -393,12 +379,9 @@ fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()>
             gs.scene.rho.to_string(),
             gs.scene.stokes.to_string(),
         ];
-        for key in SUMMARY_KEYS {
-            row.push(match summary.as_ref().map(|s| &s[key]) {
-                Some(serde_json::Value::String(v)) => v.clone(),
-                Some(serde_json::Value::Number(v)) => v.to_string(),
-                _ => String::new(),
-            });
+        match &summary {
+            Some(s) => row.extend(s.cells()),
+            None => row.extend(SceneSummary::COLUMNS.map(|_| String::new())),
         }
         table.write_record(&row)?;
     }

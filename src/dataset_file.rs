@@ -5,12 +5,10 @@
 //! or merging shards, gives the same bytes as one whole run. Scene ids sort in grid order
 //! (`<grid>_<zero-padded index>`), which fixes the order of the scenes in every output.
 use anyhow::{bail, Context};
+use sim::output::dataset_columns;
 use std::collections::BTreeMap;
 use std::path::Path;
 use surrogate::excerpt;
-
-/// Columns whose cells are text; every other cell is a number or empty (undefined).
-const TEXT_COLUMNS: [&str; 3] = ["scene_id", "profile", "code_version"];
 
 /// The lines of one dataset file, grouped by scene.
 pub struct DatasetFile {
@@ -47,7 +45,7 @@ impl DatasetFile {
         let names = fields(&header).context("line 1 (header)")?;
         let id_column = names
             .iter()
-            .position(|n| n == "scene_id")
+            .position(|n| n == dataset_columns::SCENE_ID)
             .with_context(|| {
                 format!(
                     "line 1: no `scene_id` column in the header `{}`",
@@ -56,7 +54,7 @@ impl DatasetFile {
             })?;
         let numeric: Vec<bool> = names
             .iter()
-            .map(|n| !TEXT_COLUMNS.contains(&n.as_str()))
+            .map(|n| !dataset_columns::TEXT.contains(&n.as_str()))
             .collect();
         let mut scenes: BTreeMap<String, Vec<String>> = BTreeMap::new();
         let mut last_id: Option<String> = None;
@@ -73,7 +71,9 @@ impl DatasetFile {
                         excerpt(cell)
                     );
                 }
-                if name.ends_with("_se") && cell.parse::<f64>().is_ok_and(|se| se < 0.0) {
+                if dataset_columns::is_standard_error(name)
+                    && cell.parse::<f64>().is_ok_and(|se| se < 0.0)
+                {
                     bail!("line {number}, column `{name}`: a standard error cannot be negative ({cell})");
                 }
             }

@@ -3,13 +3,13 @@
 //! z-score `(a - b)^2 / (se_a^2 + se_b^2)` (about 1 when only noise differs, with the
 //! standard errors taken at face value) and the relative L2 difference `||a - b|| / ||b||`.
 use anyhow::{bail, Context};
+use sim::output::dataset_columns;
+use sim::output::dataset_columns::{DELTA_V, F_X, J, MU, P, PHI_LOC, SIGMA_XY, THETA, U};
 use std::path::{Path, PathBuf};
 use surrogate::{excerpt, GROUP_COLUMN};
 
 /// Observables compared by default.
-const DEFAULT_COLUMNS: [&str; 9] = [
-    "u", "sigma_xy", "P", "phi_loc", "J", "mu", "Theta", "Delta_v", "f_x",
-];
+const DEFAULT_COLUMNS: [&str; 9] = [U, SIGMA_XY, P, PHI_LOC, J, MU, THETA, DELTA_V, F_X];
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -102,7 +102,7 @@ impl Table {
                 }
                 match cell.parse::<f64>() {
                     Ok(v) if !v.is_finite() => Err(fail("is not a finite number")),
-                    Ok(v) if v < 0.0 && name.ends_with("_se") => {
+                    Ok(v) if v < 0.0 && dataset_columns::is_standard_error(name) => {
                         Err(fail("is negative; a standard error cannot be"))
                     }
                     Ok(v) => Ok(v),
@@ -175,7 +175,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "observable", "mean z^2", "rel. L2", "bins"
     );
     for c in &columns {
-        let se = format!("{c}_se");
+        let se = dataset_columns::standard_error(c);
         let g = agreement(
             &ta.column(c, &args.a)?,
             &ta.column(&se, &args.a)?,

@@ -331,7 +331,7 @@ fn run_scene(
 /// Rewrites the dataset (finished scenes in grid order) and the scene table, atomically.
 fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()> {
     let mut dataset = DatasetFile {
-        header: sim::output::result_files::profile_header(),
+        header: sim::output::dataset_columns::header(),
         scenes: Default::default(),
     };
     // Written through the csv crate: a failure reason holds commas, quotes and newlines.

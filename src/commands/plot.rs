@@ -3,11 +3,19 @@
 //! standard error, like the thesis' figure 6.1.
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
 use anyhow::Context;
+use sim::output::dataset_columns as col;
 use std::path::PathBuf;
 use surrogate::Dataset;
 
 /// Observables drawn, one panel each.
-const QUANTITIES: [&str; 6] = ["u", "phi_loc", "mu", "J", "Theta", "Delta_v"];
+const QUANTITIES: [&str; 6] = [
+    col::U,
+    col::PHI_LOC,
+    col::MU,
+    col::J,
+    col::THETA,
+    col::DELTA_V,
+];
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -25,13 +33,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let scenes = scene_order(ids, &data)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    let (profile, l_y, phi) = (data.text("profile")?, data.text("L_y")?, data.text("phi")?);
-    let (y, u_inf) = (data.column("y")?, data.column("u_inf")?);
+    let (profile, l_y, phi) = (
+        data.text(col::PROFILE)?,
+        data.text(col::L_Y)?,
+        data.text(col::PHI)?,
+    );
+    let (y, u_inf) = (data.column(col::Y)?, data.column(col::U_INF)?);
     for id in scenes {
         let rows: Vec<usize> = (0..data.n_rows()).filter(|&r| ids[r] == id).collect();
         let mut panels = Vec::new();
         for q in QUANTITIES {
-            let (v, se) = (data.column(q)?, data.column(&format!("{q}_se"))?);
+            let (v, se) = (data.column(q)?, data.column(&col::standard_error(q))?);
             let mut series = vec![Series {
                 name: "simulated".into(),
                 points: rows.iter().map(|&r| (y[r], v[r])).collect(),

@@ -10,6 +10,7 @@ use anyhow::{bail, Context};
 use ndarray::Array2;
 use serde::Serialize;
 use sim::input::scene::Scene;
+use sim::output::dataset_columns as col;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -172,15 +173,15 @@ fn problem(scene: &Scene) -> ProfileProblem {
 fn local_rheology(path: &Path) -> anyhow::Result<LocalRheology> {
     let data =
         Dataset::read_csv(path).context("reading the training data for the local rheology")?;
-    let rows = data.complete_rows(&["J", "phi_loc", "mu"])?;
+    let rows = data.complete_rows(&[col::J, col::PHI_LOC, col::MU])?;
     let column = |name: &str| -> anyhow::Result<Vec<f64>> {
         let c = data.column(name)?;
         Ok(rows.iter().map(|&r| c[r]).collect())
     };
     Ok(LocalRheology::fit(
-        &column("J")?,
-        &column("phi_loc")?,
-        &column("mu")?,
+        &column(col::J)?,
+        &column(col::PHI_LOC)?,
+        &column(col::MU)?,
     )?)
 }
 
@@ -194,8 +195,21 @@ fn write_profile(
     let mut w =
         csv::Writer::from_path(path).with_context(|| format!("writing {}", path.display()))?;
     w.write_record([
-        "scene_id", "profile", "L_y", "phi", "y", "u_inf", "u", "gdot", "sigma_xy", "P", "phi_loc",
-        "J", "mu", "Delta_v", "f_x",
+        col::SCENE_ID,
+        col::PROFILE,
+        col::L_Y,
+        col::PHI,
+        col::Y,
+        col::U_INF,
+        col::U,
+        col::GDOT,
+        col::SIGMA_XY,
+        col::P,
+        col::PHI_LOC,
+        col::J,
+        col::MU,
+        col::DELTA_V,
+        col::F_X,
     ])?;
     let f = &scene.file;
     for k in 0..problem.u_inf.len() {
@@ -237,7 +251,7 @@ fn compare(
     solutions: &[(ClosureKind, &ProfileSolution)],
 ) -> anyhow::Result<()> {
     let data = Dataset::read_csv(path)?;
-    let ids = data.text("scene_id")?;
+    let ids = data.text(col::SCENE_ID)?;
     let rows: Vec<usize> = (0..data.n_rows())
         .filter(|&r| ids[r] == scene.file.name)
         .collect();
@@ -254,16 +268,22 @@ fn compare(
         .map(|k| (k as f64 + 0.5) * problem.bin_width)
         .collect();
     println!("against {} (relative L2 error, unscaled):", path.display());
-    println!("  {:<8} {:>8} {:>8} {:>8}", "closure", "u", "phi_loc", "mu");
+    println!(
+        "  {:<8} {:>8} {:>8} {:>8}",
+        "closure",
+        col::U,
+        col::PHI_LOC,
+        col::MU
+    );
     let mut panels = Vec::new();
     let mut lines: Vec<String> = solutions
         .iter()
         .map(|(kind, _)| format!("  {:<8}", format!("{kind:?}").to_lowercase()))
         .collect();
-    for name in ["u", "phi_loc", "mu"] {
+    for name in [col::U, col::PHI_LOC, col::MU] {
         let c = data.column(name)?;
         let simulated = Array2::from_shape_fn((rows.len(), 1), |(k, _)| c[rows[k]]);
-        let se_name = format!("{name}_se");
+        let se_name = col::standard_error(name);
         let errors = match data.column(&se_name) {
             Ok(se) => Some(rows.iter().map(|&r| se[r]).collect()),
             Err(_) => None,
@@ -305,8 +325,8 @@ fn compare(
 /// The solved values of observable `name` (u, phi_loc or mu).
 fn solved_column<'a>(s: &'a ProfileSolution, name: &str) -> &'a [f64] {
     match name {
-        "u" => &s.u,
-        "phi_loc" => &s.phi_loc,
+        col::U => &s.u,
+        col::PHI_LOC => &s.phi_loc,
         _ => &s.mu,
     }
 }

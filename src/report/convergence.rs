@@ -7,6 +7,7 @@
 //! run its square is expected to be `c (1/n + 1/reference)`, so it falls as 1/sqrt(n)
 //! until n approaches the reference length.
 use sim::input::scene::Scene;
+use sim::output::dataset_columns as col;
 use sim::run::{Phase, RunOptions, RunSummary};
 use sim::sampling::bin_averages::{BinAverages, Observables};
 use sim::sampling::block_sums::BlockSums;
@@ -15,7 +16,7 @@ use sim::SimError;
 use std::time::Instant;
 
 /// Observables whose error is measured, with their column in [`Observables::columns`].
-pub const OBSERVABLES: [&str; 3] = ["phi_loc", "mu", "u"];
+pub const OBSERVABLES: [&str; 3] = [col::PHI_LOC, col::MU, col::U];
 
 /// Number of blocks of the partial profiles' batch-means standard errors.
 const PARTIAL_BLOCKS: usize = 4;
@@ -47,29 +48,24 @@ pub struct ConvergenceRun {
 
 /// Values of observable `name` in `o`.
 pub fn column<'a>(o: &'a Observables, name: &str) -> &'a [f64] {
-    match name {
-        "phi_loc" => &o.phi_loc,
-        "mu" => &o.mu,
-        "u" => &o.u,
-        "J" => &o.j,
-        "Theta" => &o.theta,
-        "Delta_v" => &o.delta_v,
-        _ => unreachable!("observable {name} is not measured by the report"),
-    }
+    o.column(name)
+        .unwrap_or_else(|| unreachable!("observable {name} is not in the dataset"))
 }
 
-/// `||a - b|| / ||b - offset||` over the bins where both are finite (NaN when none are).
+/// `||a - b|| / ||b - offset||` over the bins where both are finite (NaN when none are):
+/// the metric of eq 6.6 (`surrogate::relative_l2_error`) on values shifted by `offset`.
 pub fn relative_l2(a: &[f64], b: &[f64], offset: f64) -> f64 {
-    let (mut d2, mut b2) = (0.0, 0.0);
-    for (x, y) in a
+    let pairs: Vec<(f64, f64)> = a
         .iter()
         .zip(b)
         .filter(|(x, y)| x.is_finite() && y.is_finite())
-    {
-        d2 += (x - y) * (x - y);
-        b2 += (y - offset) * (y - offset);
-    }
-    (d2 / b2).sqrt()
+        .map(|(&x, &y)| (x - offset, y - offset))
+        .collect();
+    let shifted = |pick: fn(&(f64, f64)) -> f64| {
+        ndarray::Array2::from_shape_fn((pairs.len(), 1), |(k, _)| pick(&pairs[k]))
+    };
+    let (predicted, truth) = (shifted(|p| p.0), shifted(|p| p.1));
+    surrogate::relative_l2_error(truth.view(), predicted.view()).map_or(f64::NAN, |e| e[0])
 }
 
 /// Snapshot counts of the partial profiles: `partial / 2^k`, at least 2 per block.

@@ -5,6 +5,7 @@
 //! standard error), drawn along y in `descriptors_along_y.svg`.
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
 use anyhow::Context;
+use sim::output::dataset_columns as col;
 use std::fmt::Write as _;
 use std::path::Path;
 use surrogate::{Dataset, TrainedModel, Validation};
@@ -120,7 +121,7 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
                 let col = data.column(c)?;
                 Ok(rows.iter().map(|&r| col[r]).collect())
             };
-            let (v, se) = (pick(name)?, pick(&format!("{name}_se"))?);
+            let (v, se) = (pick(name)?, pick(&col::standard_error(name))?);
             let s = stats(&v, &se);
             medians[d] = s.median_relative_se;
             let _ = writeln!(
@@ -148,9 +149,9 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
             });
         }
         let (u_inf, dv, dv_se) = (
-            data.column("u_inf")?,
+            data.column(col::U_INF)?,
             data.column("Delta_v")?,
-            data.column("Delta_v_se")?,
+            data.column(&col::standard_error(col::DELTA_V))?,
         );
         let worst = rows
             .iter()

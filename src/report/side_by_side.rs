@@ -48,7 +48,7 @@ pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Re
         let path = dir.join(format!("reference_{id}.csv"));
         let csv = format!(
             "{}\n{}",
-            sim::output::result_files::profile_header(),
+            sim::output::dataset_columns::header(),
             sim::output::result_files::profile_rows(&run.scene, &run.reference, &run.summary)
         );
         sim::output::atomic_write::write_atomic(&path, csv.as_bytes())?;

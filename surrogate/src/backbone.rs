@@ -3,6 +3,7 @@
 
 use ndarray::{Array2, ArrayView2, Axis};
 use serde::{Deserialize, Serialize};
+use sim::output::dataset_columns as col;
 
 use crate::error::{Result, SurrogateError};
 use crate::local_rheology::LocalRheology;
@@ -10,7 +11,7 @@ use crate::samples::Samples;
 use crate::scaling::MinMaxScaling;
 
 /// The feature the backbone reads: the local viscous number.
-const J_COLUMN: &str = "J";
+const J_COLUMN: &str = col::J;
 
 /// The backbone of a model and the min-max scaling of its residuals on the training rows.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -25,7 +26,11 @@ impl Backbone {
     /// outputs) and returns it with the scaled residuals the trees are to learn.
     pub fn fit(samples: &Samples) -> Result<(Self, Array2<f64>)> {
         let j = column(samples, J_COLUMN)?;
-        let law = LocalRheology::fit(&j, &column(samples, "phi_loc")?, &column(samples, "mu")?)?;
+        let law = LocalRheology::fit(
+            &j,
+            &column(samples, col::PHI_LOC)?,
+            &column(samples, col::MU)?,
+        )?;
         let mut residual = samples.outputs.clone();
         add_law(&law, &samples.output_names, &j, &mut residual, -1.0)?;
         let residual_scaling = MinMaxScaling::fit(residual.view())?;

@@ -19,7 +19,7 @@ use crate::fingerprint::fnv1a_64;
 
 /// The column whose value names the simulation a row comes from: the grouping key for
 /// cross-validation, so that rows of one simulation never sit on both sides of a split.
-pub const GROUP_COLUMN: &str = "scene_id";
+pub const GROUP_COLUMN: &str = sim::output::dataset_columns::SCENE_ID;
 
 /// The UTF-8 byte-order mark some editors put at the start of a CSV file.
 const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";

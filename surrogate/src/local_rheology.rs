@@ -20,6 +20,7 @@
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::brent::BrentOpt;
 use serde::{Deserialize, Serialize};
+use sim::output::dataset_columns as col;
 
 use crate::error::{Result, SurrogateError};
 
@@ -141,8 +142,8 @@ impl LocalRheology {
     /// The law's value of output `name` (`mu` or `phi_loc`) at `J`.
     pub fn output(&self, name: &str, j: f64) -> Result<f64> {
         match name {
-            "mu" => Ok(self.mu(j)),
-            "phi_loc" => Ok(self.phi_loc(j)),
+            col::MU => Ok(self.mu(j)),
+            col::PHI_LOC => Ok(self.phi_loc(j)),
             other => Err(SurrogateError::InvalidArgument(format!(
                 "the local-rheology backbone predicts mu and phi_loc, not `{other}`"
             ))),

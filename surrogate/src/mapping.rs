@@ -1,6 +1,7 @@
 //! The input -> output mappings learnt by the surrogate (docs/physics.md section 8, thesis section 6.2).
 
 use crate::error::{Result, SurrogateError};
+use sim::output::dataset_columns as col;
 
 /// Which dataset columns a model reads (features) and which it predicts (outputs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -18,20 +19,20 @@ pub const MAPPINGS: [Mapping; 3] = [
     // Motivated by the scaling law J/mu = alpha (phi_J - phi_loc)^2 (thesis eq 6.7).
     Mapping {
         name: "mu",
-        features: &["J", "phi_loc", "phi"],
-        outputs: &["mu"],
+        features: &[col::J, col::PHI_LOC, col::PHI],
+        outputs: &[col::MU],
     },
     // The suspension temperature Theta carries the non-local information (thesis eqs 6.8-6.9).
     Mapping {
         name: "theta",
-        features: &["J", "Theta", "phi"],
-        outputs: &["phi_loc", "mu"],
+        features: &[col::J, col::THETA, col::PHI],
+        outputs: &[col::PHI_LOC, col::MU],
     },
     // Delta_v, measurable from average velocities alone, in place of Theta.
     Mapping {
         name: "dv",
-        features: &["J", "Delta_v", "phi"],
-        outputs: &["phi_loc", "mu"],
+        features: &[col::J, col::DELTA_V, col::PHI],
+        outputs: &[col::PHI_LOC, col::MU],
     },
 ];
 

@@ -25,6 +25,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::error::{Result, SurrogateError};
 use crate::local_rheology::LocalRheology;
+use crate::mapping::Mapping;
 use crate::predictor::Predictor;
 
 /// Regulariser of Delta_v's denominator (eq 6.2).
@@ -64,7 +65,8 @@ impl LearnedClosure {
     /// Wraps a predictor of the `dv` mapping.
     pub fn new(predictor: Predictor) -> Result<Self> {
         let meta = predictor.meta();
-        if meta.features != ["J", "Delta_v", "phi"] || meta.outputs != ["phi_loc", "mu"] {
+        let dv = Mapping::by_name("dv")?;
+        if meta.features != dv.features || meta.outputs != dv.outputs {
             return Err(SurrogateError::InvalidArgument(format!(
                 "the profile solver closes the balance with mapping (J, Delta_v, phi) -> \
                  (phi_loc, mu); model `{}` maps ({}) -> ({})",

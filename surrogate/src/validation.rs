@@ -11,7 +11,7 @@ use crate::model::TrainedModel;
 use crate::samples::Samples;
 
 /// The column whose text names the flow profile of a row (the `u_inf(y)` expression).
-pub const PROFILE_COLUMN: &str = "profile";
+pub const PROFILE_COLUMN: &str = sim::output::dataset_columns::PROFILE;
 
 /// The name under which the errors over all validation rows together are reported.
 pub const ALL_PROFILES: &str = "all";

@@ -5,25 +5,12 @@ use crate::error::SimError;
 use crate::input::scene::Scene;
 use crate::integrate::simulation::Simulation;
 use crate::output::atomic_write::write_atomic;
+use crate::output::dataset_columns::{self, OBSERVABLES};
 use crate::run::RunSummary;
-use crate::sampling::bin_averages::{BinAverages, COLUMNS};
+use crate::sampling::bin_averages::BinAverages;
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
-
-/// Header of a profile table (docs/physics.md section 8, the dataset schema): the scene's provenance
-/// (id, profile, L_y, phi, seed, strain at which it was steady, momentum residual, code
-/// version), the bin position and streaming velocity, then every observable and its
-/// standard error.
-pub fn profile_header() -> String {
-    let mut h = String::from(
-        "scene_id,profile,L_y,phi,seed,steady_strain,momentum_residual,code_version,y,u_inf",
-    );
-    for c in COLUMNS {
-        let _ = write!(h, ",{c},{c}_se");
-    }
-    h
-}
 
 /// Formats a value; undefined (NaN) values become empty fields.
 fn num(x: f64) -> String {
@@ -54,7 +41,7 @@ pub fn profile_rows(scene: &Scene, profile: &BinAverages, summary: &RunSummary) 
             num(profile.y[k]),
             num(profile.u_inf[k])
         );
-        for c in 0..COLUMNS.len() {
+        for c in 0..OBSERVABLES.len() {
             let _ = write!(out, ",{},{}", num(mean[c][k]), num(se[c][k]));
         }
         out.push('\n');
@@ -76,7 +63,7 @@ pub fn write_results(
     std::fs::create_dir_all(dir).map_err(err)?;
     let csv = format!(
         "{}\n{}",
-        profile_header(),
+        dataset_columns::header(),
         profile_rows(scene, profile, summary)
     );
     write_atomic(&dir.join("profile.csv"), csv.as_bytes())?;

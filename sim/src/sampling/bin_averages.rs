@@ -51,13 +51,17 @@ pub struct Observables {
     pub count: Vec<f64>,
 }
 
-/// Names of the observable columns, in output order.
-pub const COLUMNS: [&str; 11] = [
-    "u", "gdot", "sigma_xy", "P", "phi_loc", "J", "mu", "Theta", "Delta_v", "f_x", "count",
-];
-
 impl Observables {
-    /// Columns in the order of [`COLUMNS`].
+    /// The values of the observable called `name` (a name of
+    /// [`OBSERVABLES`](crate::output::dataset_columns::OBSERVABLES)), if it is one.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        let index = crate::output::dataset_columns::OBSERVABLES
+            .iter()
+            .position(|&c| c == name)?;
+        Some(self.columns()[index].as_slice())
+    }
+
+    /// Columns in the order of [`OBSERVABLES`](crate::output::dataset_columns::OBSERVABLES).
     pub fn columns(&self) -> [&Vec<f64>; 11] {
         [
             &self.u,

@@ -8,18 +8,13 @@
 //! until n approaches the reference length.
 use sim::input::scene::Scene;
 use sim::output::dataset_columns as col;
-use sim::run::{Phase, RunOptions, RunSummary};
+use sim::run::RunSummary;
 use sim::sampling::bin_averages::{BinAverages, Observables};
-use sim::sampling::block_sums::BlockSums;
-use sim::sampling::snapshot::{self, field::FIELDS};
+use sim::sampling::run_length;
 use sim::SimError;
-use std::time::Instant;
 
 /// Observables whose error is measured, with their column in [`Observables::columns`].
 pub const OBSERVABLES: [&str; 3] = [col::PHI_LOC, col::MU, col::U];
-
-/// Number of blocks of the partial profiles' batch-means standard errors.
-const PARTIAL_BLOCKS: usize = 4;
 
 /// A profile averaged over the first `snapshots` steady snapshots.
 pub struct PartialAverage {
@@ -68,95 +63,37 @@ pub fn relative_l2(a: &[f64], b: &[f64], offset: f64) -> f64 {
     surrogate::relative_l2_error(truth.view(), predicted.view()).map_or(f64::NAN, |e| e[0])
 }
 
-/// Snapshot counts of the partial profiles: `partial / 2^k`, at least 2 per block.
-fn partial_counts(partial: usize) -> Vec<usize> {
-    let mut n: Vec<usize> = std::iter::successors(Some(partial), |&n| Some(n / 2))
-        .take_while(|&n| n >= 2 * PARTIAL_BLOCKS)
-        .collect();
-    n.reverse();
-    n
-}
-
-/// `snaps` (one sum per snapshot) grouped into `blocks` consecutive blocks.
-fn blocks_of(snaps: &[Vec<f64>], blocks: usize, n_bins: usize) -> BlockSums {
-    let mut b = BlockSums::new(n_bins, blocks, snaps.len() / blocks);
-    for s in &snaps[..b.capacity()] {
-        b.current().iter_mut().zip(s).for_each(|(acc, v)| *acc += v);
-        b.commit();
-    }
-    b
-}
-
 /// Runs `scene` (its `run.snapshots` and `run.blocks` are replaced) to the steady state,
-/// then `partial + reference` snapshots, and measures the partial profiles against the
-/// reference. `partial` must be a multiple of 4 and `reference` of 10.
+/// then `partial + reference` snapshots (`sim::sampling::run_length`), and measures the
+/// partial averages against the reference. `partial` must be a multiple of 4 and
+/// `reference` of 10.
 pub fn run(scene: &Scene, partial: usize, reference: usize) -> Result<ConvergenceRun, SimError> {
-    let mut file = scene.file.clone();
-    file.run.snapshots = partial + reference;
-    file.run.blocks = 2;
-    let scene = Scene::from_file(file, false)?;
-    let ctx = sim::run::binning_context(&scene);
-    let nb = scene.n_bins;
-    let started = Instant::now();
-    let mut snaps: Vec<Vec<f64>> = Vec::with_capacity(partial);
-    let mut walls: Vec<f64> = Vec::with_capacity(partial);
-    let mut reference_sums = BlockSums::new(nb, 10, reference / 10);
-    let mut wall_to_steady_s = f64::NAN;
-    let mut seen = 0;
-    let outcome = sim::run::run(&scene, &RunOptions::default(), &mut |p, s| {
-        if p.phase != Phase::Averaging {
-            return;
-        }
-        if wall_to_steady_s.is_nan() {
-            wall_to_steady_s = started.elapsed().as_secs_f64();
-        }
-        if p.snapshots == seen {
-            return;
-        }
-        seen = p.snapshots;
-        let mut sums = vec![0.0; FIELDS * nb];
-        snapshot::accumulate(s, &ctx.bins, &mut sums);
-        if snaps.len() < partial {
-            snaps.push(sums);
-            walls.push(started.elapsed().as_secs_f64());
-        } else if !reference_sums.full() {
-            reference_sums
-                .current()
-                .iter_mut()
-                .zip(&sums)
-                .for_each(|(acc, v)| *acc += v);
-            reference_sums.commit();
-        }
-    })?;
-    let reference_profile = BinAverages::from_blocks(&ctx, &reference_sums)?;
-    let partials = partial_counts(partial)
+    let sampled = run_length::sample(scene, partial, reference)?;
+    let sample_strain = sampled.scene.file.run.sample_strain;
+    let partials = sampled
+        .partials
         .into_iter()
-        .map(|n| {
-            let profile =
-                BinAverages::from_blocks(&ctx, &blocks_of(&snaps[..n], PARTIAL_BLOCKS, nb))?;
-            let error = OBSERVABLES.map(|o| {
+        .map(|p| PartialAverage {
+            snapshots: p.snapshots,
+            averaging_strain: p.snapshots as f64 * sample_strain,
+            wall_s: p.wall_s,
+            error: OBSERVABLES.map(|o| {
                 relative_l2(
-                    column(&profile.mean, o),
-                    column(&reference_profile.mean, o),
+                    column(&p.averages.mean, o),
+                    column(&sampled.reference.mean, o),
                     0.0,
                 )
-            });
-            Ok(PartialAverage {
-                snapshots: n,
-                averaging_strain: n as f64 * scene.file.run.sample_strain,
-                wall_s: walls[n - 1],
-                profile,
-                error,
-            })
+            }),
+            profile: p.averages,
         })
-        .collect::<Result<Vec<_>, SimError>>()?;
+        .collect();
     Ok(ConvergenceRun {
-        summary: outcome.summary,
-        scene,
-        wall_to_steady_s,
+        scene: sampled.scene,
+        summary: sampled.summary,
+        wall_to_steady_s: sampled.wall_to_steady_s,
         partials,
-        reference: reference_profile,
-        reference_snapshots: reference,
+        reference: sampled.reference,
+        reference_snapshots: sampled.reference_snapshots,
     })
 }
 
@@ -214,12 +151,6 @@ pub fn decorrelated_slope(run: &ConvergenceRun, observable: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn partial_counts_halve_down_to_two_snapshots_per_block() {
-        assert_eq!(partial_counts(64), vec![8, 16, 32, 64]);
-        assert_eq!(partial_counts(512), vec![8, 16, 32, 64, 128, 256, 512]);
-    }
 
     #[test]
     fn the_noise_law_through_a_point_and_the_slope_of_a_power_law() {

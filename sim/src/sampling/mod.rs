@@ -4,5 +4,6 @@
 pub mod bin_averages;
 pub mod binning;
 pub mod block_sums;
+pub mod run_length;
 pub mod snapshot;
 pub mod steady_state;

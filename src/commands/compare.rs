@@ -2,11 +2,11 @@
 //! within their statistical errors? For each observable, the mean over bins of the squared
 //! z-score `(a - b)^2 / (se_a^2 + se_b^2)` (about 1 when only noise differs, with the
 //! standard errors taken at face value) and the relative L2 difference `||a - b|| / ||b||`.
-use anyhow::{bail, Context};
+use anyhow::bail;
 use sim::output::dataset_columns;
 use sim::output::dataset_columns::{DELTA_V, F_X, J, MU, P, PHI_LOC, SIGMA_XY, THETA, U};
 use std::path::{Path, PathBuf};
-use surrogate::{excerpt, GROUP_COLUMN};
+use surrogate::{excerpt, Dataset, GROUP_COLUMN};
 
 /// Observables compared by default.
 const DEFAULT_COLUMNS: [&str; 9] = [U, SIGMA_XY, P, PHI_LOC, J, MU, THETA, DELTA_V, F_X];
@@ -23,45 +23,14 @@ pub struct Args {
     columns: Vec<String>,
 }
 
-/// A profile table's columns by name.
-struct Table {
-    names: Vec<String>,
-    rows: Vec<Vec<String>>,
-}
-
-impl Table {
-    /// Reads `path` (a leading UTF-8 byte-order mark is dropped); refuses a file holding
-    /// more than one scene.
-    fn read(path: &Path) -> anyhow::Result<Table> {
-        let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-        let mut reader =
-            csv::Reader::from_reader(bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes));
-        let names = reader
-            .headers()
-            .with_context(|| format!("reading {}", path.display()))?
+/// Reads a profile table with the surrogate's dataset reader; refuses a file holding more
+/// than one scene: their bins would be compared as one long profile.
+fn read_one_scene(path: &Path) -> anyhow::Result<Dataset> {
+    let data = Dataset::read_csv(path)?;
+    if data.column_names().iter().any(|n| n == GROUP_COLUMN) {
+        let mut ids: Vec<&str> = data
+            .text(GROUP_COLUMN)?
             .iter()
-            .map(String::from)
-            .collect();
-        let rows = reader
-            .records()
-            .map(|r| r.map(|r| r.iter().map(String::from).collect()))
-            .collect::<Result<Vec<Vec<String>>, _>>()
-            .with_context(|| format!("reading {}", path.display()))?;
-        let table = Table { names, rows };
-        table.one_scene(path)?;
-        Ok(table)
-    }
-
-    /// Fails if the table's `scene_id` column names more than one scene: their bins would
-    /// be compared as one long profile.
-    fn one_scene(&self, path: &Path) -> anyhow::Result<()> {
-        let Some(c) = self.names.iter().position(|n| n == GROUP_COLUMN) else {
-            return Ok(());
-        };
-        let mut ids: Vec<&str> = self
-            .rows
-            .iter()
-            .filter_map(|r| r.get(c))
             .map(String::as_str)
             .collect();
         ids.dedup();
@@ -73,44 +42,39 @@ impl Table {
                 ids[..2].join(", ")
             );
         }
-        Ok(())
     }
+    Ok(data)
+}
 
-    /// The column `name` (empty cells are NaN: undefined in that bin); a cell that is not a
-    /// finite number, or a negative standard error (`*_se`), is an error naming row and column.
-    fn column(&self, name: &str, path: &Path) -> anyhow::Result<Vec<f64>> {
-        let c = self
-            .names
-            .iter()
-            .position(|n| n == name)
-            .with_context(|| format!("{} has no column `{name}`", path.display()))?;
-        self.rows
-            .iter()
-            .enumerate()
-            .map(|(k, r)| {
-                let cell = r.get(c).map(String::as_str).unwrap_or("");
-                let fail = |what: &str| {
-                    anyhow::anyhow!(
-                        "{} row {}, column `{name}`: `{}` {what}",
-                        path.display(),
-                        k + 1,
-                        excerpt(cell)
-                    )
-                };
-                if cell.is_empty() {
-                    return Ok(f64::NAN);
+/// The column `name` of `data` (empty cells are NaN: undefined in that bin); a cell that is
+/// not a finite number, or a negative standard error (`*_se`), is an error naming row and
+/// column.
+fn column(data: &Dataset, name: &str) -> anyhow::Result<Vec<f64>> {
+    data.text(name)?
+        .iter()
+        .enumerate()
+        .map(|(k, cell)| {
+            let fail = |what: &str| {
+                anyhow::anyhow!(
+                    "{} row {}, column `{name}`: `{}` {what}",
+                    data.source_name(),
+                    k + 1,
+                    excerpt(cell)
+                )
+            };
+            if cell.is_empty() {
+                return Ok(f64::NAN);
+            }
+            match cell.parse::<f64>() {
+                Ok(v) if !v.is_finite() => Err(fail("is not a finite number")),
+                Ok(v) if v < 0.0 && dataset_columns::is_standard_error(name) => {
+                    Err(fail("is negative; a standard error cannot be"))
                 }
-                match cell.parse::<f64>() {
-                    Ok(v) if !v.is_finite() => Err(fail("is not a finite number")),
-                    Ok(v) if v < 0.0 && dataset_columns::is_standard_error(name) => {
-                        Err(fail("is negative; a standard error cannot be"))
-                    }
-                    Ok(v) => Ok(v),
-                    Err(_) => Err(fail("is not a number")),
-                }
-            })
-            .collect()
-    }
+                Ok(v) => Ok(v),
+                Err(_) => Err(fail("is not a number")),
+            }
+        })
+        .collect()
 }
 
 /// Agreement of one observable: mean squared z-score and relative L2 difference over the
@@ -143,17 +107,20 @@ pub fn agreement(a: &[f64], sa: &[f64], b: &[f64], sb: &[f64]) -> Agreement {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let (ta, tb) = (Table::read(&args.a)?, Table::read(&args.b)?);
-    if ta.rows.len() != tb.rows.len() {
+    let (ta, tb) = (read_one_scene(&args.a)?, read_one_scene(&args.b)?);
+    if ta.n_rows() != tb.n_rows() {
         bail!(
             "{} has {} bins and {} has {}: not the same geometry",
             args.a.display(),
-            ta.rows.len(),
+            ta.n_rows(),
             args.b.display(),
-            tb.rows.len()
+            tb.n_rows()
         );
     }
-    let (ya, yb) = (ta.column("y", &args.a)?, tb.column("y", &args.b)?);
+    let (ya, yb) = (
+        column(&ta, dataset_columns::Y)?,
+        column(&tb, dataset_columns::Y)?,
+    );
     if ya
         .iter()
         .zip(&yb)
@@ -177,10 +144,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for c in &columns {
         let se = dataset_columns::standard_error(c);
         let g = agreement(
-            &ta.column(c, &args.a)?,
-            &ta.column(&se, &args.a)?,
-            &tb.column(c, &args.b)?,
-            &tb.column(&se, &args.b)?,
+            &column(&ta, c)?,
+            &column(&ta, &se)?,
+            &column(&tb, c)?,
+            &column(&tb, &se)?,
         );
         println!(
             "{c:<10} {:>8.2} {:>9.2}% {:>6}",

@@ -180,11 +180,27 @@ fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
 }
 
 #[test]
-fn golden_run_matches_and_writes_every_output() {
-    let out_dir = temp_dir("golden");
+fn golden_runs_match_and_write_every_output() {
+    for (scene, golden, dt_limit) in [
+        ("golden", "golden_profile.csv", "accuracy"),
+        (
+            "golden_explicit",
+            "golden_explicit_profile.csv",
+            "lubrication",
+        ),
+    ] {
+        golden_run(scene, golden, dt_limit);
+    }
+}
+
+/// Runs `tests/scenes/good/<scene>.toml` and compares its profile with `tests/golden/<golden>`
+/// (`UPDATE_GOLDEN=1` rewrites it); its dt must be set by `dt_limit`.
+fn golden_run(scene: &str, golden: &str, dt_limit: &str) {
+    let out_dir = temp_dir(scene);
+    let scene_path = format!("tests/scenes/good/{scene}.toml");
     let out = suspflow(&[
         "simulate",
-        "tests/scenes/good/golden.toml",
+        &scene_path,
         "--out",
         out_dir.to_str().unwrap(),
         "--threads",
@@ -214,7 +230,7 @@ fn golden_run_matches_and_writes_every_output() {
     ] {
         assert!(!summary[key].is_null(), "summary.json lacks {key}");
     }
-    assert_eq!(summary["dt_limit"], "lubrication");
+    assert_eq!(summary["dt_limit"], dt_limit);
 
     let frames = std::fs::read_to_string(out_dir.join("frames.xyz")).unwrap();
     let n = summary["n_particles"].as_u64().unwrap() as usize;
@@ -222,7 +238,7 @@ fn golden_run_matches_and_writes_every_output() {
     assert_eq!(frames.lines().count(), (snapshots / 4) * (n + 2));
 
     let produced = out_dir.join("profile.csv");
-    let golden = root().join("tests/golden/golden_profile.csv");
+    let golden = root().join("tests/golden").join(golden);
     if std::env::var_os("UPDATE_GOLDEN").is_some() {
         std::fs::copy(&produced, &golden).unwrap();
     }

@@ -114,6 +114,9 @@ pub struct RunSummary {
     /// Largest overlap ratio seen at a steady snapshot (overlap / smaller radius).
     pub max_overlap: f64,
     pub list_builds: u64,
+    /// Mean conjugate-gradient iterations per implicit step (absent for the explicit
+    /// scheme); counted since the last start or restart.
+    pub solver_iterations_mean: Option<f64>,
     pub timers: crate::integrate::stage_timers::StageTimers,
     pub threads: usize,
     pub undefined_bins: Vec<usize>,
@@ -337,6 +340,8 @@ pub fn run(
         mean_overlap: st.overlap_mean_sum / target as f64,
         max_overlap: st.overlap_max,
         list_builds: sim.list_builds,
+        solver_iterations_mean: (sim.solver_totals.0 > 0)
+            .then(|| sim.solver_totals.1 as f64 / sim.solver_totals.0 as f64),
         timers: sim.timers,
         threads: rayon::current_num_threads(),
         undefined_bins,

@@ -170,10 +170,10 @@ fn binned_solid_volume_sums_to_the_total() {
 #[test]
 fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
     static STOP: AtomicBool = AtomicBool::new(false);
-    // Snapshots every 0.5 strain: well over a thousand steps between two of them.
+    // Snapshots every 1.2 strain: over a thousand steps between two of them.
     let mut file = tiny().file;
-    file.run.sample_strain = 0.5;
-    file.run.window_strain = 0.5;
+    file.run.sample_strain = 1.2;
+    file.run.window_strain = 1.2;
     file.run.snapshots = 4;
     file.run.blocks = 2;
     let scene = Scene::from_file(file, false).unwrap();

@@ -12,8 +12,15 @@ fn dense(run: &str) -> Scene {
 }
 
 #[test]
-fn a_time_step_far_above_the_lubrication_limit_is_caught_not_silent() {
-    let scene = dense("dt_factor = 20.0");
+fn a_time_step_far_above_the_stability_limit_is_caught_not_silent() {
+    // Explicit: 20 times the lubrication limit; implicit: 3 times the damped contact limit.
+    for run in ["integrator = \"explicit\"\ndt_factor = 20.0", "dt = 3.0"] {
+        time_step_is_caught(run);
+    }
+}
+
+fn time_step_is_caught(run: &str) {
+    let scene = dense(run);
     let mut sim = Simulation::new(&scene, initial_particles(&scene).unwrap()).unwrap();
     match sim.advance(20_000) {
         Err(SimError::BlowUp {
@@ -28,7 +35,7 @@ fn a_time_step_far_above_the_lubrication_limit_is_caught_not_silent() {
                 "cause: {cause}"
             );
         }
-        other => panic!("expected a blow-up, got {other:?}"),
+        other => panic!("{run}: expected a blow-up, got {other:?}"),
     }
 }
 

@@ -152,6 +152,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             s.mean_overlap
         ),
     }
+    if let Some(iterations) = s.solver_iterations_mean {
+        println!(
+            "implicit solve: {iterations:.1} conjugate-gradient iterations per step on average"
+        );
+    }
     for w in &s.warnings {
         eprintln!("warning: {w}");
     }
@@ -182,8 +187,8 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
         scene.stokes
     );
     println!(
-        "dt = {:.3e} set by {} (critical steps: contact {:.3e}, drag {:.3e}, lubrication {:.3e})",
-        t.dt, t.limit, t.contact_critical, t.drag_critical, t.lubrication_critical
+        "{} integrator: dt = {:.3e} set by {} (critical steps: contact {:.3e}, drag {:.3e}, lubrication {:.3e}; accuracy cap xi_min/gdot_max {:.3e})",
+        t.integrator, t.dt, t.limit, t.contact_critical, t.drag_critical, t.lubrication_critical, t.accuracy_limit
     );
     println!(
         "{:.0} steps per unit strain; at most {:.3e} particle-steps to the strain budget {} plus {:.3e} for {} snapshots",

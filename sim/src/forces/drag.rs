@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 /// Translational drag `F = 6 pi eta a (U_inf(y) - v)` with `U_inf = (u(y), 0, 0)` (3.5).
 #[inline]
 pub fn force(eta: f64, a: f64, u_inf: f64, v: &Vec3) -> Vec3 {
-    let c = 6.0 * PI * eta * a;
+    let c = translational_resistance(eta, a);
     Vec3::new(c * (u_inf - v.x), -c * v.y, -c * v.z)
 }
 
@@ -14,7 +14,7 @@ pub fn force(eta: f64, a: f64, u_inf: f64, v: &Vec3) -> Vec3 {
 /// `Omega_inf = (0, 0, -u'(y)/2)` (3.6).
 #[inline]
 pub fn torque(eta: f64, a: f64, du_dy: f64, omega: &Vec3) -> Vec3 {
-    let c = 8.0 * PI * eta * a * a * a;
+    let c = rotational_resistance(eta, a);
     Vec3::new(-c * omega.x, -c * omega.y, c * (-0.5 * du_dy - omega.z))
 }
 
@@ -28,5 +28,16 @@ pub fn stresslet_xy(eta: f64, a: f64, du_dy: f64) -> f64 {
 
 /// Drag relaxation time `m / (6 pi eta a)` of a sphere of mass `m` and radius `a`.
 pub fn relaxation_time(mass: f64, eta: f64, a: f64) -> f64 {
-    mass / (6.0 * PI * eta * a)
+    mass / translational_resistance(eta, a)
+}
+
+/// Translational drag resistance `6 pi eta a`: the drag force is this times
+/// `U_inf - v` (3.5).
+pub fn translational_resistance(eta: f64, a: f64) -> f64 {
+    6.0 * PI * eta * a
+}
+
+/// Rotational drag resistance `8 pi eta a^3` (3.6).
+pub fn rotational_resistance(eta: f64, a: f64) -> f64 {
+    8.0 * PI * eta * a * a * a
 }

@@ -1,7 +1,9 @@
 //! Sums pair and one-body loads into every particle's force and torque, in parallel over
 //! contiguous chunks of the half neighbour list, with a fixed chunking so that the same
 //! thread count always gives the same bits (docs/physics.md section 3).
+use crate::forces::chunk_buffers::{ChunkBuffers, ChunkTarget};
 use crate::forces::force_field::ForceField;
+use crate::forces::resistance_network::{ResistanceNetwork, ResistancePair};
 use crate::input::flow_profile::FlowProfile;
 use crate::integrate::particles::Particles;
 use crate::integrate::periodic_box::PeriodicBox;
@@ -58,11 +60,11 @@ impl ContactStats {
     }
 }
 
-/// Force and torque buffers of the chunks after the first, reused every step (no
-/// allocation per step).
+/// Chunk bounds and buffers of the parallel pair loop, reused every step (no allocation
+/// per step).
 #[derive(Default)]
 pub struct ForceAccumulator {
-    buffers: Vec<(Vec<Vec3>, Vec<Vec3>)>,
+    buffers: ChunkBuffers,
     bounds: Vec<usize>,
 }
 
@@ -87,7 +89,9 @@ impl ForceAccumulator {
 
     /// Sets `p.force` and `p.torque` to the total load on every particle: one-body terms
     /// plus every listed pair within its cut-off. `springs` holds one tangential spring
-    /// per listed pair in frictional scenes and is empty otherwise.
+    /// per listed pair in frictional scenes and is empty otherwise. With a `network`, the
+    /// loads are the conservative ones only (contacts; no drag, no lubrication) and the
+    /// network receives every pair's lubrication resistance instead (the implicit step).
     #[allow(clippy::too_many_arguments)]
     pub fn evaluate(
         &mut self,
@@ -98,80 +102,34 @@ impl ForceAccumulator {
         pbox: &PeriodicBox,
         profile: &FlowProfile,
         dt: f64,
+        mut network: Option<&mut ResistanceNetwork>,
     ) -> ContactStats {
         let chunks = if p.len() < PARALLEL_MIN_PARTICLES {
             1
         } else {
             rayon::current_num_threads().max(1)
         };
+        self.split(list, chunks);
+        if let Some(net) = network.as_deref_mut() {
+            net.reset(&self.bounds);
+        }
         let n = p.len();
         // The state is read while the load arrays are written: move them out (no copy).
         let mut force = std::mem::take(&mut p.force);
         let mut torque = std::mem::take(&mut p.torque);
         let state: &Particles = p;
-        let stats = if chunks == 1 {
-            for i in 0..n {
-                (force[i], torque[i]) = field.one_body(state, profile, i);
-            }
-            pair_range(
-                field,
-                state,
-                list,
-                springs,
-                pbox,
-                dt,
-                0..n,
-                0,
-                &mut force,
-                &mut torque,
-            )
-        } else {
-            self.parallel(
-                field,
-                state,
-                list,
-                springs,
-                pbox,
-                profile,
-                dt,
-                chunks,
-                &mut force,
-                &mut torque,
-            )
-        };
-        p.force = force;
-        p.torque = torque;
-        stats
-    }
-
-    /// Parallel evaluation. The one-body loads are written first; then chunk 0 adds its
-    /// pairs straight into the output while chunk k >= 1 sums into its own buffer, which
-    /// only needs to cover particles from its first row on (a half list has j > i).
-    /// Finally each particle adds the buffers in chunk order.
-    #[allow(clippy::too_many_arguments)]
-    fn parallel(
-        &mut self,
-        field: &ForceField,
-        state: &Particles,
-        list: &VerletList,
-        springs: &mut [Vec3],
-        pbox: &PeriodicBox,
-        profile: &FlowProfile,
-        dt: f64,
-        chunks: usize,
-        force: &mut [Vec3],
-        torque: &mut [Vec3],
-    ) -> ContactStats {
-        let n = state.len();
-        self.split(list, chunks);
-        self.buffers.resize_with(chunks - 1, Default::default);
+        let one_body = network.is_none();
         force
             .par_iter_mut()
             .zip(torque.par_iter_mut())
             .enumerate()
-            .with_min_len(256)
+            .with_min_len(1024)
             .for_each(|(i, (f, t))| {
-                (*f, *t) = field.one_body(state, profile, i);
+                (*f, *t) = if one_body {
+                    field.one_body(state, profile, i)
+                } else {
+                    (Vec3::zeros(), Vec3::zeros())
+                };
             });
         let bounds = &self.bounds;
         let mut spring_parts: Vec<&mut [Vec3]> = Vec::with_capacity(chunks);
@@ -186,53 +144,52 @@ impl ForceAccumulator {
             spring_parts.push(head);
             rest = tail;
         }
-        let mut targets: Vec<(&mut [Vec3], &mut [Vec3], usize)> = Vec::with_capacity(chunks);
-        targets.push((&mut *force, &mut *torque, 0));
-        for (k, (bf, bt)) in self.buffers.iter_mut().enumerate() {
-            let offset = bounds[k + 1];
-            bf.clear();
-            bf.resize(n - offset, Vec3::zeros());
-            bt.clear();
-            bt.resize(n - offset, Vec3::zeros());
-            targets.push((bf.as_mut_slice(), bt.as_mut_slice(), offset));
-        }
-        let stats: Vec<ContactStats> = targets
-            .into_par_iter()
-            .zip(spring_parts.into_par_iter())
-            .enumerate()
-            .map(|(k, ((f, t, offset), part))| {
-                pair_range(
-                    field,
-                    state,
-                    list,
-                    part,
-                    pbox,
-                    dt,
-                    bounds[k]..bounds[k + 1],
-                    offset,
-                    f,
-                    t,
-                )
-            })
-            .collect();
-        let buffers = &self.buffers;
-        let first = bounds[1];
-        force[first..]
-            .par_iter_mut()
-            .zip(torque[first..].par_iter_mut())
-            .enumerate()
-            .with_min_len(256)
-            .for_each(|(r, (f, t))| {
-                let i = first + r;
-                for (k, (bf, bt)) in buffers.iter().enumerate() {
-                    let offset = bounds[k + 1];
-                    if i < offset {
-                        break;
-                    }
-                    *f += bf[i - offset];
-                    *t += bt[i - offset];
-                }
-            });
+        let mut records: Vec<Option<&mut Vec<ResistancePair>>> = match network {
+            Some(net) => net.chunks.iter_mut().map(Some).collect(),
+            None => (0..chunks).map(|_| None).collect(),
+        };
+        let stats = if chunks == 1 {
+            let mut total = ContactStats::default();
+            pair_range(
+                field,
+                state,
+                list,
+                spring_parts.pop().unwrap_or_default(),
+                pbox,
+                dt,
+                (0..n, (&mut force, &mut torque, 0)),
+                records.pop().flatten(),
+                &mut total,
+            );
+            vec![total]
+        } else {
+            let targets = self.buffers.targets(bounds, n, (&mut force, &mut torque));
+            let stats: Vec<ContactStats> = targets
+                .into_par_iter()
+                .zip(spring_parts.into_par_iter())
+                .zip(records.into_par_iter())
+                .enumerate()
+                .map(|(k, ((target, part), record))| {
+                    let mut s = ContactStats::default();
+                    pair_range(
+                        field,
+                        state,
+                        list,
+                        part,
+                        pbox,
+                        dt,
+                        (bounds[k]..bounds[k + 1], target),
+                        record,
+                        &mut s,
+                    );
+                    s
+                })
+                .collect();
+            self.buffers.reduce_into(bounds, &mut force, &mut torque);
+            stats
+        };
+        p.force = force;
+        p.torque = torque;
         let mut total = ContactStats::default();
         for s in &stats {
             total.merge(s);
@@ -241,8 +198,9 @@ impl ForceAccumulator {
     }
 }
 
-/// Adds the loads of the pairs whose first particle lies in `rows` into `force`/`torque`,
-/// which hold particles from index `offset` on.
+/// Adds the loads of the pairs whose first particle lies in `rows` into the target's
+/// force and torque arrays, which hold particles from its offset on. With `record`, only
+/// contact loads are added and each pair's lubrication resistance is recorded.
 #[allow(clippy::too_many_arguments)]
 fn pair_range(
     field: &ForceField,
@@ -251,12 +209,10 @@ fn pair_range(
     springs: &mut [Vec3],
     pbox: &PeriodicBox,
     dt: f64,
-    rows: std::ops::Range<usize>,
-    offset: usize,
-    force: &mut [Vec3],
-    torque: &mut [Vec3],
-) -> ContactStats {
-    let mut stats = ContactStats::default();
+    (rows, (force, torque, offset)): (std::ops::Range<usize>, ChunkTarget<'_>),
+    mut record: Option<&mut Vec<ResistancePair>>,
+    stats: &mut ContactStats,
+) {
     let frictional = !springs.is_empty();
     let first_pair = list.start[rows.start];
     for i in rows {
@@ -267,7 +223,20 @@ fn pair_range(
             } else {
                 None
             };
-            if let Some(out) = field.pair(p, pbox, i, j, spring, dt) {
+            let outcome = match record.as_deref_mut() {
+                None => field.pair(p, pbox, i, j, spring, dt),
+                Some(rec) => field.pair_contact(p, pbox, i, j, spring, dt).inspect(|o| {
+                    if let Some(resistance) = o.resistance {
+                        rec.push(ResistancePair {
+                            i: i as u32,
+                            j: j as u32,
+                            n: o.n,
+                            resistance,
+                        });
+                    }
+                }),
+            };
+            if let Some(out) = outcome {
                 force[i - offset] += out.load.force_i;
                 force[j - offset] -= out.load.force_i;
                 torque[i - offset] += out.load.torque_i;
@@ -281,5 +250,4 @@ fn pair_range(
             }
         }
     }
-    stats
 }

@@ -2,7 +2,7 @@
 //! the load of one pair and of one particle (docs/physics.md section 4).
 use crate::forces::contact::ContactLaw;
 use crate::forces::drag;
-use crate::forces::lubrication::{gap, LubricationCoefficients};
+use crate::forces::lubrication::{gap, LubricationCoefficients, PairResistance};
 use crate::forces::pair_load::PairLoad;
 use crate::input::flow_profile::FlowProfile;
 use crate::input::scene::Scene;
@@ -29,8 +29,12 @@ pub struct PairOutcome {
     pub load: PairLoad,
     /// Minimum-image separation `x_j - x_i`.
     pub r: Vec3,
+    /// Unit vector `r / |r|` from i to j.
+    pub n: Vec3,
     /// Overlap `a_i + a_j - |r|` (negative when apart).
     pub overlap: f64,
+    /// The pair's lubrication resistance, when within the lubrication cut-off.
+    pub resistance: Option<PairResistance>,
 }
 
 /// Force terms of a scene. A term that is off costs nothing: it is never evaluated.
@@ -100,10 +104,32 @@ impl ForceField {
         self.contact.is_some_and(|c| c.frictional())
     }
 
-    /// Load of the pair (i, j), or `None` when they are beyond the cut-off. `spring` is
-    /// the pair's tangential contact history (frictional scenes only), advanced by `dt`.
+    /// Load of the pair (i, j), or `None` when they are beyond the cut-off: contact plus
+    /// lubrication at the current velocities. `spring` is the pair's tangential contact
+    /// history (frictional scenes only), advanced by `dt`.
     #[inline]
     pub fn pair(
+        &self,
+        p: &Particles,
+        pbox: &PeriodicBox,
+        i: usize,
+        j: usize,
+        spring: Option<&mut Vec3>,
+        dt: f64,
+    ) -> Option<PairOutcome> {
+        let mut out = self.pair_contact(p, pbox, i, j, spring, dt)?;
+        if let Some(r) = &out.resistance {
+            let dv = p.vel[j] - p.vel[i];
+            out.load.add(&r.load(&out.n, &dv, &p.omega[i], &p.omega[j]));
+        }
+        Some(out)
+    }
+
+    /// The contact load of the pair (i, j) and its lubrication resistance, not applied
+    /// (the implicit step integrates lubrication itself, docs/physics.md section 5), or
+    /// `None` beyond the cut-off.
+    #[inline]
+    pub fn pair_contact(
         &self,
         p: &Particles,
         pbox: &PeriodicBox,
@@ -124,17 +150,11 @@ impl ForceField {
         let d = d2.sqrt();
         let n = r / d;
         let overlap = c.contact_distance - d;
-        let dv = p.vel[j] - p.vel[i];
+        let resistance = c
+            .lubrication
+            .as_ref()
+            .and_then(|lub| lub.resistance(gap(d, p.radius[i], p.radius[j])));
         let mut load = PairLoad::default();
-        if let Some(lub) = &c.lubrication {
-            load = lub.load(
-                gap(d, p.radius[i], p.radius[j]),
-                &n,
-                &dv,
-                &p.omega[i],
-                &p.omega[j],
-            );
-        }
         if let Some(contact) = &self.contact {
             if overlap > 0.0 {
                 load.force_i += contact.normal(overlap, &n);
@@ -143,7 +163,7 @@ impl ForceField {
                         s,
                         overlap,
                         &n,
-                        &dv,
+                        &(p.vel[j] - p.vel[i]),
                         &p.omega[i],
                         &p.omega[j],
                         p.radius[i],
@@ -156,7 +176,13 @@ impl ForceField {
                 *s = Vec3::zeros();
             }
         }
-        Some(PairOutcome { load, r, overlap })
+        Some(PairOutcome {
+            load,
+            r,
+            n,
+            overlap,
+            resistance,
+        })
     }
 
     /// One-body load of particle i: Stokes drag and rotational drag towards the local

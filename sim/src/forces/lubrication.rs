@@ -58,33 +58,70 @@ impl LubricationCoefficients {
         self.xa_singular / xi + self.xa_log * (1.0 / xi).ln()
     }
 
-    /// Lubrication load for a pair at dimensionless gap `xi` (any value below `xi_max`;
-    /// values below `xi_min`, including overlaps, use `xi_min`), unit vector `n` from i to
-    /// j, relative velocity `dv = v_j - v_i`, and spins `omega_i`, `omega_j`:
-    /// force on i `(X11A N + Y11A T) dv + Y11B (omega_i x n) + Y21B (omega_j x n)`,
-    /// torque on i `Y11B dv x n - T (Y11C omega_i + Y12C omega_j)` (3.13),
-    /// torque on j `Y21B dv x n - T (Y21C omega_i + Y22C omega_j)` (3.14).
-    /// Returns zero at or beyond `xi_max`.
+    /// The pair's resistance functions at dimensionless gap `xi` (values below `xi_min`,
+    /// including overlaps, use `xi_min`), or `None` at or beyond `xi_max`: the squeeze term
+    /// (3.8) and the log terms `Y11A`, `Y11B`, `Y21B`, `Y11C`, `Y12C`, `Y22C`.
     #[inline]
-    pub fn load(&self, xi: f64, n: &Vec3, dv: &Vec3, omega_i: &Vec3, omega_j: &Vec3) -> PairLoad {
+    pub fn resistance(&self, xi: f64) -> Option<PairResistance> {
         if xi >= self.xi_max {
-            return PairLoad::default();
+            return None;
         }
         let xi = xi.max(self.xi_min);
         let inv_xi = 1.0 / xi;
         let log = inv_xi.ln();
-        let x11a = self.xa_singular * inv_xi + self.xa_log * log;
-        let y11a = self.ya * log;
-        let (y11b, y21b) = (self.yb11 * log, self.yb21 * log);
-        let (y11c, y12c, y22c) = (self.yc11 * log, self.yc12 * log, self.yc22 * log);
+        Some(PairResistance {
+            x11a: self.xa_singular * inv_xi + self.xa_log * log,
+            y11a: self.ya * log,
+            y11b: self.yb11 * log,
+            y21b: self.yb21 * log,
+            y11c: self.yc11 * log,
+            y12c: self.yc12 * log,
+            y22c: self.yc22 * log,
+        })
+    }
+
+    /// Lubrication load at gap `xi` (see [`PairResistance::load`]); zero at or beyond
+    /// `xi_max`.
+    #[inline]
+    pub fn load(&self, xi: f64, n: &Vec3, dv: &Vec3, omega_i: &Vec3, omega_j: &Vec3) -> PairLoad {
+        self.resistance(xi)
+            .map_or_else(PairLoad::default, |r| r.load(n, dv, omega_i, omega_j))
+    }
+}
+
+/// The resistance functions of one pair at its current gap (units eta a, eta a^2, eta a^3):
+/// the linear map from the pair's relative motion to its lubrication load (3.13, 3.14).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PairResistance {
+    pub x11a: f64,
+    pub y11a: f64,
+    pub y11b: f64,
+    pub y21b: f64,
+    pub y11c: f64,
+    pub y12c: f64,
+    pub y22c: f64,
+}
+
+impl PairResistance {
+    /// Lubrication load for unit vector `n` from i to j, relative velocity `dv = v_j - v_i`
+    /// and spins `omega_i`, `omega_j`:
+    /// force on i `(X11A N + Y11A T) dv + Y11B (omega_i x n) + Y21B (omega_j x n)`,
+    /// torque on i `Y11B dv x n - T (Y11C omega_i + Y12C omega_j)` (3.13),
+    /// torque on j `Y21B dv x n - T (Y21C omega_i + Y22C omega_j)` (3.14).
+    /// Linear in the motion: the load is `-R` times it, `R` symmetric positive
+    /// semi-definite (docs/physics.md section 4).
+    #[inline]
+    pub fn load(&self, n: &Vec3, dv: &Vec3, omega_i: &Vec3, omega_j: &Vec3) -> PairLoad {
         let dv_n = n.dot(dv);
         let dv_t = dv - n * dv_n;
-        let force_i =
-            n * (x11a * dv_n) + dv_t * y11a + omega_i.cross(n) * y11b + omega_j.cross(n) * y21b;
+        let force_i = n * (self.x11a * dv_n)
+            + dv_t * self.y11a
+            + omega_i.cross(n) * self.y11b
+            + omega_j.cross(n) * self.y21b;
         let dv_x_n = dv.cross(n);
         let tangential = |w: Vec3| w - n * n.dot(&w);
-        let torque_i = dv_x_n * y11b - tangential(omega_i * y11c + omega_j * y12c);
-        let torque_j = dv_x_n * y21b - tangential(omega_i * y12c + omega_j * y22c);
+        let torque_i = dv_x_n * self.y11b - tangential(omega_i * self.y11c + omega_j * self.y12c);
+        let torque_j = dv_x_n * self.y21b - tangential(omega_i * self.y12c + omega_j * self.y22c);
         PairLoad {
             force_i,
             torque_i,

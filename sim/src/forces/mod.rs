@@ -1,9 +1,11 @@
 //! The force laws (docs/physics.md, section Forces): contact springs, Stokes drag,
 //! Kim-Karrila lubrication, and their accumulation over the neighbour list.
 
+pub mod chunk_buffers;
 pub mod contact;
 pub mod drag;
 pub mod force_accumulation;
 pub mod force_field;
 pub mod lubrication;
 pub mod pair_load;
+pub mod resistance_network;

@@ -4,6 +4,7 @@ use crate::error::SimError;
 use crate::input::flow_profile::FlowProfile;
 use crate::input::memory_estimate;
 use crate::input::scene_name;
+use crate::integrate::integrator::Integrator;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -100,6 +101,12 @@ pub struct ForceSection {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunSection {
+    /// Time integrator, `"implicit"` (default) or `"explicit"` (docs/physics.md section 5).
+    #[serde(default)]
+    pub integrator: Integrator,
+    /// Relative residual at which the implicit step's solve stops.
+    #[serde(default = "default_solver_tolerance")]
+    pub solver_tolerance: f64,
     /// Fixed time step; absent = automatic (docs/physics.md section 5).
     #[serde(default)]
     pub dt: Option<f64>,
@@ -163,6 +170,9 @@ fn default_xi_min() -> f64 {
 }
 fn default_xi_max() -> f64 {
     0.05
+}
+fn default_solver_tolerance() -> f64 {
+    1e-4
 }
 fn default_dt_safety() -> f64 {
     0.3
@@ -370,6 +380,12 @@ impl Scene {
             positive("run.dt", dt)?;
         }
         positive("run.dt_safety", r.dt_safety)?;
+        if !(r.solver_tolerance > 0.0 && r.solver_tolerance <= 1e-3) {
+            return Err(SimError::field(
+                "run.solver_tolerance",
+                format!("must be in (0, 1e-3], got {}", r.solver_tolerance),
+            ));
+        }
         positive("run.dt_factor", r.dt_factor)?;
         if !(r.skin.is_finite() && r.skin >= 0.0) {
             return Err(SimError::field(

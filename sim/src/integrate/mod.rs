@@ -1,6 +1,8 @@
 //! Time stepping: the particle arrays, the periodic box, the automatic time step and the
-//! velocity-Verlet step with its blow-up checks.
+//! steps (implicit and velocity Verlet) with their blow-up checks.
 
+pub mod implicit_dissipation;
+pub mod integrator;
 pub mod particles;
 pub mod periodic_box;
 pub mod simulation;

@@ -1,10 +1,13 @@
-//! The particle system in time: neighbour upkeep, force evaluation and velocity-Verlet
-//! steps (docs/physics.md section 5), with blow-up detection.
+//! The particle system in time: neighbour upkeep, force evaluation and the implicit or
+//! velocity-Verlet step (docs/physics.md section 5), with blow-up detection.
 use crate::error::SimError;
 use crate::forces::force_accumulation::{ContactStats, ForceAccumulator};
 use crate::forces::force_field::ForceField;
+use crate::forces::resistance_network::ResistanceNetwork;
 use crate::input::flow_profile::FlowProfile;
 use crate::input::scene::Scene;
+use crate::integrate::implicit_dissipation::{ImplicitDissipation, SolveSettings, SolveStats};
+use crate::integrate::integrator::Integrator;
 use crate::integrate::particles::{sphere_inertia, Particles};
 use crate::integrate::periodic_box::PeriodicBox;
 use crate::integrate::stage_timers::{Stage, StageTimers};
@@ -22,6 +25,8 @@ pub const MAX_OVERLAP_RATIO: f64 = 0.1;
 pub const MAX_KINETIC_RATIO: f64 = 1e4;
 /// Steps between kinetic-energy checks.
 const ENERGY_CHECK_EVERY: u64 = 64;
+/// Conjugate-gradient iterations after which the implicit step is declared failed.
+const MAX_SOLVER_ITERATIONS: usize = 2000;
 
 /// What a checkpoint keeps of a [`Simulation`]: particles (with their current forces),
 /// the positions the neighbour list was built from, the contact springs and the clock.
@@ -35,7 +40,8 @@ pub struct SystemState {
     pub list_builds: u64,
 }
 
-/// Particles, their neighbour list and forces, advanced by velocity Verlet.
+/// Particles, their neighbour list and forces, advanced by the implicit step or by
+/// velocity Verlet.
 pub struct Simulation {
     pub particles: Particles,
     pub pbox: PeriodicBox,
@@ -54,7 +60,15 @@ pub struct Simulation {
     /// Constant external force on each particle (empty = none): a probe for tests and
     /// driven scenes; never evaluated when empty.
     pub body_force: Vec<Vec3>,
+    /// Iterations and residual of the last implicit solve.
+    pub last_solve: SolveStats,
+    /// Implicit solves and their iterations since the start (or the restart).
+    pub solver_totals: (u64, u64),
     accumulator: ForceAccumulator,
+    /// Lubrication resistances at the current positions (implicit step only).
+    network: ResistanceNetwork,
+    dissipation: ImplicitDissipation,
+    solver: SolveSettings,
     skin: f64,
     kinetic_scale: f64,
 }
@@ -93,7 +107,15 @@ impl Simulation {
             timers: StageTimers::default(),
             list_builds: 0,
             body_force: Vec::new(),
+            last_solve: SolveStats::default(),
+            solver_totals: (0, 0),
             accumulator: ForceAccumulator::default(),
+            network: ResistanceNetwork::default(),
+            dissipation: ImplicitDissipation::default(),
+            solver: SolveSettings {
+                tolerance: scene.file.run.solver_tolerance,
+                max_iterations: MAX_SOLVER_ITERATIONS,
+            },
             skin: scene.file.run.skin,
             kinetic_scale,
             particles,
@@ -161,9 +183,15 @@ impl Simulation {
         self.timers.stop(Stage::Neighbours, t);
     }
 
-    /// Evaluates every force and torque at the current state.
+    /// Evaluates the loads at the current state: every force and torque for the explicit
+    /// scheme; for the implicit one the conservative loads, with the lubrication
+    /// resistances kept for the solve.
     pub fn compute_forces(&mut self) {
         let t = self.timers.start();
+        let network = match self.timestep.integrator {
+            Integrator::Implicit => Some(&mut self.network),
+            Integrator::Explicit => None,
+        };
         self.contacts = self.accumulator.evaluate(
             &self.field,
             &mut self.particles,
@@ -172,6 +200,7 @@ impl Simulation {
             &self.pbox,
             &self.profile,
             self.timestep.dt,
+            network,
         );
         for (f, b) in self.particles.force.iter_mut().zip(&self.body_force) {
             *f += b;
@@ -210,9 +239,62 @@ impl Simulation {
             });
     }
 
+    /// One step of the scene's integrator, then the blow-up checks.
+    pub fn step(&mut self) -> Result<(), SimError> {
+        match self.timestep.integrator {
+            Integrator::Implicit => self.implicit_step(),
+            Integrator::Explicit => self.verlet_step(),
+        }
+    }
+
+    /// One implicit step (docs/physics.md section 5): drift with the last velocities,
+    /// conservative loads and lubrication resistances at the new positions, then the
+    /// backward-Euler solve for the new velocities under those loads, drag and
+    /// lubrication. The loads a snapshot evaluates afterwards (lubrication at the new
+    /// velocities) are the ones the step applied.
+    fn implicit_step(&mut self) -> Result<(), SimError> {
+        let t = self.timers.start();
+        self.drift();
+        self.timers.stop(Stage::Integration, t);
+        if self.list.stale(&self.particles.pos, &self.pbox) {
+            self.rebuild_list();
+        }
+        self.compute_forces();
+        let t = self.timers.start();
+        let drag = self.field.drag.then_some((self.field.eta, &self.profile));
+        let solved = self.dissipation.solve(
+            &mut self.particles,
+            &mut self.network,
+            drag,
+            self.timestep.dt,
+            self.solver,
+        );
+        self.timers.stop(Stage::Integration, t);
+        self.step += 1;
+        self.time += self.timestep.dt;
+        match solved {
+            Ok(stats) => {
+                self.last_solve = stats;
+                self.solver_totals.0 += 1;
+                self.solver_totals.1 += stats.iterations as u64;
+            }
+            Err(failure) => {
+                return Err(self.blow_up(
+                    failure.particle,
+                    format!(
+                        "the implicit solve stopped at relative residual {:.3e} after {} iterations (largest residual on this particle)",
+                        failure.stats.residual, failure.stats.iterations
+                    ),
+                    "the system is ill-conditioned or not finite: lower run.dt_safety or run.dt, or raise run.solver_tolerance",
+                ));
+            }
+        }
+        self.check()
+    }
+
     /// One velocity-Verlet step (forces at the new positions with the half-step
     /// velocities, as in the seeds' LAMMPS scheme), then the blow-up checks.
-    pub fn step(&mut self) -> Result<(), SimError> {
+    fn verlet_step(&mut self) -> Result<(), SimError> {
         let t = self.timers.start();
         self.half_kick();
         self.drift();

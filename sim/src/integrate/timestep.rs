@@ -1,8 +1,10 @@
-//! Automatic stable time step (docs/physics.md section 5): the explicit velocity-Verlet scheme is
+//! Automatic time step (docs/physics.md section 5). The explicit velocity-Verlet scheme is
 //! limited by the contact spring, the one-body drag and the lubrication squeeze
-//! resistance at `xi_min`; the step is a safety fraction of the tightest limit.
+//! resistance at `xi_min`; the implicit step only by the contact spring and by accuracy.
+//! The step is a safety fraction of the tightest stability limit, capped by accuracy.
 use crate::forces::force_field::ForceField;
 use crate::input::scene::Scene;
+use crate::integrate::integrator::Integrator;
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -13,6 +15,8 @@ pub enum DtLimit {
     Contact,
     Drag,
     Lubrication,
+    /// Strain per step capped at `xi_min` (implicit step).
+    Accuracy,
     /// Set by the scene's `run.dt`.
     User,
 }
@@ -23,6 +27,7 @@ impl std::fmt::Display for DtLimit {
             DtLimit::Contact => "contact",
             DtLimit::Drag => "drag",
             DtLimit::Lubrication => "lubrication",
+            DtLimit::Accuracy => "accuracy",
             DtLimit::User => "user",
         };
         f.write_str(s)
@@ -36,17 +41,39 @@ pub struct TimeStep {
     pub dt: f64,
     /// What set it.
     pub limit: DtLimit,
-    /// `2 sqrt(m_red / k_n)`, the stability limit of an undamped contact spring (infinite without contacts).
+    /// Stability limit of the contact spring (infinite without contacts). Explicit scheme:
+    /// `2 sqrt(m_red / k_n)`, the undamped spring. Implicit step: the spring damped,
+    /// implicitly, by the lubrication squeeze resistance `X = X11A(xi_min)` every
+    /// overlapping pair carries, `(X + sqrt(X^2 + 4 k_n m_red)) / k_n` (see
+    /// [`damped_spring_limit`]); the same with `k_t` and `Y11A(xi_min)` for friction.
     pub contact_critical: f64,
     /// `2 m / (6 pi eta a)`, explicit stability of the Stokes drag (infinite without drag).
     pub drag_critical: f64,
     /// `2 m_red / X11A(xi_min)`, explicit stability of the lubrication squeeze term.
     pub lubrication_critical: f64,
+    /// `xi_min / gdot_max`, the implicit step's accuracy cap: the strain per step at most
+    /// the inner lubrication gap.
+    pub accuracy_limit: f64,
+    /// The integrator the step was chosen for.
+    pub integrator: Integrator,
+}
+
+/// Largest stable step of a spring `k` between masses of reduced mass `m_red` whose
+/// damping `c` is integrated by backward Euler while the spring force is taken at the
+/// drifted position: the step's amplification matrix has determinant
+/// `m / (m + dt c) < 1` and trace `1 + (m - dt^2 k) / (m + dt c)`, stable while
+/// `dt^2 k < 2 (2 m_red + dt c)`, i.e. `dt < (c + sqrt(c^2 + 4 k m_red)) / k`. Without
+/// damping this is the explicit `2 sqrt(m_red / k)`. A network of such pairs has
+/// stiffness and damping in the same proportion mode by mode, so the bound holds for it.
+pub fn damped_spring_limit(m_red: f64, k: f64, c: f64) -> f64 {
+    (c + (c * c + 4.0 * k * m_red).sqrt()) / k
 }
 
 impl TimeStep {
-    /// Critical steps over every species pair, and the step the scene asks for:
-    /// `run.dt` if given, else `dt_safety * dt_factor * min(critical steps)`.
+    /// Critical steps over every species pair, and the step the scene asks for: `run.dt`
+    /// if given, else `dt_safety * dt_factor` times the tightest stability limit of the
+    /// scene's integrator (explicit: contact, drag, lubrication; implicit: contact), the
+    /// implicit one capped by `dt_factor * accuracy_limit`.
     pub fn choose(scene: &Scene, field: &ForceField) -> TimeStep {
         let rho = scene.rho;
         let eta = scene.file.fluid.eta;
@@ -59,23 +86,40 @@ impl TimeStep {
             }
             for (s_j, &a_j) in radii.iter().enumerate() {
                 let m_red = mass(a_i) * mass(a_j) / (mass(a_i) + mass(a_j));
+                let lubrication = &field.constants(s_i as u16, s_j as u16).lubrication;
                 if let Some(c) = &field.contact {
-                    contact = contact.min(2.0 * (m_red / c.k_n).sqrt());
+                    let (mut normal, mut tangential) = (0.0, 0.0);
+                    if let (Integrator::Implicit, Some(l)) =
+                        (scene.file.run.integrator, lubrication)
+                    {
+                        let r = l.resistance(l.xi_min).unwrap_or_default();
+                        (normal, tangential) = (r.x11a, r.y11a);
+                    }
+                    contact = contact.min(damped_spring_limit(m_red, c.k_n, normal));
+                    if c.frictional() {
+                        contact = contact.min(damped_spring_limit(m_red, c.k_t, tangential));
+                    }
                 }
-                if let Some(l) = &field.constants(s_i as u16, s_j as u16).lubrication {
+                if let Some(l) = lubrication {
                     lub = lub.min(2.0 * m_red / l.x11a(l.xi_min));
                 }
             }
         }
         let run = &scene.file.run;
         let (mut dt, mut limit) = (contact, DtLimit::Contact);
-        if drag < dt {
-            (dt, limit) = (drag, DtLimit::Drag);
-        }
-        if lub < dt {
-            (dt, limit) = (lub, DtLimit::Lubrication);
+        let accuracy = scene.file.forces.xi_min / scene.gdot_max();
+        if run.integrator == Integrator::Explicit {
+            if drag < dt {
+                (dt, limit) = (drag, DtLimit::Drag);
+            }
+            if lub < dt {
+                (dt, limit) = (lub, DtLimit::Lubrication);
+            }
         }
         dt *= run.dt_safety * run.dt_factor;
+        if run.integrator == Integrator::Implicit && accuracy * run.dt_factor < dt {
+            (dt, limit) = (accuracy * run.dt_factor, DtLimit::Accuracy);
+        }
         if let Some(user) = run.dt {
             (dt, limit) = (user, DtLimit::User);
         }
@@ -85,6 +129,8 @@ impl TimeStep {
             contact_critical: contact,
             drag_critical: drag,
             lubrication_critical: lub,
+            accuracy_limit: accuracy,
+            integrator: run.integrator,
         }
     }
 

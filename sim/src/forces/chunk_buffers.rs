@@ -1,0 +1,64 @@
+//! Per-chunk load buffers of the parallel pair loops (forces and the implicit step's
+//! resistance products): chunk 0 adds straight into the output, chunk k >= 1 into its own
+//! buffer covering particles from its first row on (a half list has j > i), and the
+//! buffers are added in chunk order, so the same chunking always gives the same bits.
+use crate::Vec3;
+
+/// Buffers of the chunks after the first, reused from call to call (no allocation once
+/// they have grown to size).
+#[derive(Default)]
+pub struct ChunkBuffers {
+    buffers: Vec<(Vec<Vec3>, Vec<Vec3>)>,
+}
+
+/// Where one chunk writes: its force-like and torque-like arrays and the index of their
+/// first particle.
+pub type ChunkTarget<'a> = (&'a mut [Vec3], &'a mut [Vec3], usize);
+
+impl ChunkBuffers {
+    /// One target per chunk of `bounds` (chunk k covers rows `bounds[k]..bounds[k + 1]`):
+    /// `first` for chunk 0, zeroed buffers covering `bounds[k]..n` for the others.
+    pub fn targets<'a>(
+        &'a mut self,
+        bounds: &[usize],
+        n: usize,
+        first: (&'a mut [Vec3], &'a mut [Vec3]),
+    ) -> Vec<ChunkTarget<'a>> {
+        let chunks = bounds.len() - 1;
+        self.buffers.resize_with(chunks - 1, Default::default);
+        let mut targets: Vec<ChunkTarget<'a>> = Vec::with_capacity(chunks);
+        targets.push((first.0, first.1, 0));
+        for (k, (bf, bt)) in self.buffers.iter_mut().enumerate() {
+            let offset = bounds[k + 1];
+            bf.clear();
+            bf.resize(n - offset, Vec3::zeros());
+            bt.clear();
+            bt.resize(n - offset, Vec3::zeros());
+            targets.push((bf.as_mut_slice(), bt.as_mut_slice(), offset));
+        }
+        targets
+    }
+
+    /// Adds every buffer into `a` and `b`, particle by particle in chunk order.
+    pub fn reduce_into(&self, bounds: &[usize], a: &mut [Vec3], b: &mut [Vec3]) {
+        use rayon::prelude::*;
+        let first = bounds[1];
+        let buffers = &self.buffers;
+        a[first..]
+            .par_iter_mut()
+            .zip(b[first..].par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(r, (f, t))| {
+                let i = first + r;
+                for (k, (bf, bt)) in buffers.iter().enumerate() {
+                    let offset = bounds[k + 1];
+                    if i < offset {
+                        break;
+                    }
+                    *f += bf[i - offset];
+                    *t += bt[i - offset];
+                }
+            });
+    }
+}

@@ -1,0 +1,124 @@
+//! The lubrication resistance of every pair within the cut-off, frozen at one configuration:
+//! the sparse symmetric operator `R` that maps the particles' motion to minus their
+//! lubrication loads (docs/physics.md sections 4 and 5). The implicit step solves with it.
+use crate::forces::chunk_buffers::ChunkBuffers;
+use crate::forces::lubrication::PairResistance;
+use crate::Vec3;
+use nalgebra::Matrix3;
+use rayon::prelude::*;
+
+/// One pair of the network: particles `i < j`, unit vector `n` from i to j and the
+/// resistance functions at their gap.
+#[derive(Clone, Copy, Debug)]
+pub struct ResistancePair {
+    pub i: u32,
+    pub j: u32,
+    pub n: Vec3,
+    pub resistance: PairResistance,
+}
+
+impl ResistancePair {
+    /// The pair's lubrication load for translational velocities `lin` and spins `ang`.
+    #[inline]
+    fn load(&self, lin: &[Vec3], ang: &[Vec3]) -> crate::forces::pair_load::PairLoad {
+        let (i, j) = (self.i as usize, self.j as usize);
+        self.resistance
+            .load(&self.n, &(lin[j] - lin[i]), &ang[i], &ang[j])
+    }
+}
+
+/// The pairs in the chunks of the force evaluation that found them (chunk k holds the
+/// pairs whose first particle lies in `bounds[k]..bounds[k + 1]`), so that products run
+/// over the same chunks in parallel with a fixed summation order.
+#[derive(Default)]
+pub struct ResistanceNetwork {
+    pub chunks: Vec<Vec<ResistancePair>>,
+    pub bounds: Vec<usize>,
+    buffers: ChunkBuffers,
+}
+
+impl ResistanceNetwork {
+    /// Empties the network for `bounds` (one chunk per range), keeping its memory.
+    pub fn reset(&mut self, bounds: &[usize]) {
+        let chunks = bounds.len() - 1;
+        self.chunks.resize_with(chunks, Vec::new);
+        for c in &mut self.chunks {
+            c.clear();
+        }
+        self.bounds.clear();
+        self.bounds.extend_from_slice(bounds);
+    }
+
+    /// Number of pairs.
+    pub fn len(&self) -> usize {
+        self.chunks.iter().map(Vec::len).sum()
+    }
+
+    /// Whether no pair is within the lubrication cut-off.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// `out = R motion` for a motion of 2N rows (N translational velocities, then N
+    /// spins): minus the lubrication forces and torques that motion would meet (3.13,
+    /// 3.14).
+    pub fn apply(&mut self, motion: &[Vec3], out: &mut [Vec3]) {
+        let n = motion.len() / 2;
+        let (lin, ang) = motion.split_at(n);
+        let (out_lin, out_ang) = out.split_at_mut(n);
+        out_lin.fill(Vec3::zeros());
+        out_ang.fill(Vec3::zeros());
+        if self.chunks.len() == 1 {
+            add_products(&self.chunks[0], lin, ang, (out_lin, out_ang, 0));
+            return;
+        }
+        let targets = self
+            .buffers
+            .targets(&self.bounds, n, (&mut *out_lin, &mut *out_ang));
+        targets
+            .into_par_iter()
+            .zip(self.chunks.par_iter())
+            .for_each(|(target, pairs)| add_products(pairs, lin, ang, target));
+        self.buffers.reduce_into(&self.bounds, out_lin, out_ang);
+    }
+
+    /// Adds each particle's own 3x3 blocks of `R` to the blocks `block(row)` of `rows`
+    /// (N translational rows, then N rotational ones): `X11A N + Y11A T` for translation,
+    /// `Y11C T` (or `Y22C T` for the second particle of a pair) for rotation.
+    pub fn add_diagonal_blocks<T>(
+        &self,
+        rows: &mut [T],
+        n: usize,
+        block: impl Fn(&mut T) -> &mut Matrix3<f64>,
+    ) {
+        for p in self.chunks.iter().flatten() {
+            let (i, j) = (p.i as usize, p.j as usize);
+            let nn = p.n * p.n.transpose();
+            let t = Matrix3::identity() - nn;
+            let r = &p.resistance;
+            let translation = nn * r.x11a + t * r.y11a;
+            *block(&mut rows[i]) += translation;
+            *block(&mut rows[j]) += translation;
+            *block(&mut rows[n + i]) += t * r.y11c;
+            *block(&mut rows[n + j]) += t * r.y22c;
+        }
+    }
+}
+
+/// Adds `R` times the motion for `pairs` into `target`, which holds particles from its
+/// offset on.
+fn add_products(
+    pairs: &[ResistancePair],
+    lin: &[Vec3],
+    ang: &[Vec3],
+    (out_lin, out_ang, offset): (&mut [Vec3], &mut [Vec3], usize),
+) {
+    for p in pairs {
+        let load = p.load(lin, ang);
+        let (i, j) = (p.i as usize - offset, p.j as usize - offset);
+        out_lin[i] -= load.force_i;
+        out_lin[j] += load.force_i;
+        out_ang[i] -= load.torque_i;
+        out_ang[j] -= load.torque_j;
+    }
+}

@@ -211,9 +211,12 @@ fn golden_run_matches_and_writes_every_output() {
         "momentum_residual",
         "mean_overlap",
         "max_overlap",
+        "stress_checks",
     ] {
         assert!(!summary[key].is_null(), "summary.json lacks {key}");
     }
+    assert_eq!(summary["observables"]["stress"], "pairs");
+    assert_eq!(summary["observables"]["theta"], "local-window");
     assert_eq!(summary["dt_limit"], "lubrication");
 
     let frames = std::fs::read_to_string(out_dir.join("frames.xyz")).unwrap();
@@ -246,6 +249,21 @@ fn golden_run_matches_and_writes_every_output() {
                 _ => assert_eq!(x, y, "bin {row}, {}", h1[c]),
             }
         }
+    }
+
+    // The conventions table recomputes every option from the run's snapshot sums.
+    let out = suspflow(&["conventions", out_dir.to_str().unwrap()]);
+    assert_ok(&out);
+    let table = String::from_utf8_lossy(&out.stdout);
+    for option in [
+        "stress = \"pairs+drag\"",
+        "stress = \"pairs+drag+solvent\"",
+        "theta = \"interpolated-rms\"",
+        "delta_v = \"bin-centre\"",
+        "gdot = \"centred\"",
+        "| golden | 8 |",
+    ] {
+        assert!(table.contains(option), "no `{option}` in\n{table}");
     }
     std::fs::remove_dir_all(&out_dir).ok();
 }

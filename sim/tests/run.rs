@@ -219,3 +219,53 @@ fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
     });
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn each_convention_changes_only_the_observables_it_defines() {
+    use sim::output::dataset_columns::{DELTA_V, J, MU, THETA};
+    use sim::sampling::convention_effects::{convention_effects, COMPARED};
+    let scene = tiny();
+    let out = on_threads(1, || run(&scene, &RunOptions::default(), &mut |_, _| {})).unwrap();
+    let ctx = sim::run::binning_context(&scene);
+    let effects = convention_effects(&ctx, &out.sums).unwrap();
+    assert_eq!(effects.len(), 5);
+    for effect in &effects {
+        let changes = |name: &str| {
+            let r = &effect.relative[COMPARED.iter().position(|&c| c == name).unwrap()];
+            assert!(
+                !r.is_empty(),
+                "{}: {name} undefined everywhere",
+                effect.option
+            );
+            r.iter().any(|&x| x > 1e-9)
+        };
+        let expected: &[&str] = match effect.option.split(' ').next().unwrap() {
+            "stress" => &[MU],
+            "theta" => &[THETA],
+            "delta_v" => &[DELTA_V],
+            "gdot" => &[J],
+            other => panic!("unknown option {other}"),
+        };
+        for name in COMPARED {
+            assert_eq!(
+                changes(name),
+                expected.contains(&name),
+                "{} and {name}",
+                effect.option
+            );
+        }
+    }
+}
+
+/// A steady run of the quick scene (30-100 s on one core): the bin-averaged stress
+/// balances the drag and sigma_yy is flat along y within its standard errors.
+#[test]
+#[ignore]
+fn steady_quick_scene_passes_the_stress_checks() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/quick.toml");
+    let scene = Scene::from_path(&path, false).unwrap();
+    let out = on_threads(1, || run(&scene, &RunOptions::default(), &mut |_, _| {})).unwrap();
+    let c = out.summary.stress_checks;
+    assert!(c.balance_residual.unwrap() < 0.15, "{c:?}");
+    assert!(c.sigma_yy_chi2 < 3.0 && c.sigma_yy_max_z < 4.0, "{c:?}");
+}

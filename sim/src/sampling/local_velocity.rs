@@ -21,6 +21,7 @@ impl LocalVelocity {
     /// `|v_x,i - u*_i|` for every particle, with the window half-width `h` (`< l_y / 2`) on
     /// the period `l_y`.
     pub fn deviations(&mut self, pos: &[Vec3], vel: &[Vec3], l_y: f64, h: f64) -> &[f64] {
+        debug_assert!(2.0 * h < l_y, "window wider than the period");
         let n = pos.len();
         let wrapped = |i: usize| pos[i].y.rem_euclid(l_y);
         self.order.clear();

@@ -265,6 +265,16 @@ fn golden_run_matches_and_writes_every_output() {
     ] {
         assert!(table.contains(option), "no `{option}` in\n{table}");
     }
+    // A directory without a finished run is named in the error.
+    let empty = temp_dir("conventions-empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = suspflow(&["conventions", empty.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("a finished run?"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&empty).ok();
     std::fs::remove_dir_all(&out_dir).ok();
 }
 

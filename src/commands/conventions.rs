@@ -7,7 +7,7 @@
 use crate::prediction_timing::median;
 use anyhow::Context;
 use sim::input::scene::Scene;
-use sim::output::result_files::read_snapshot_sums;
+use sim::output::result_files::{SnapshotSums, SNAPSHOT_SUMS};
 use sim::run::binning_context;
 use sim::sampling::bin_averages::BinAverages;
 use sim::sampling::convention_effects::{convention_effects, COMPARED};
@@ -29,7 +29,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
          |---|---|---|---|---|---|\n",
     );
     for dir in &args.dirs {
-        let sums = read_snapshot_sums(dir)?;
+        let path = dir.join(SNAPSHOT_SUMS);
+        let text = std::fs::read_to_string(&path).with_context(|| {
+            format!(
+                "reading {} (is {} a finished run?)",
+                path.display(),
+                dir.display()
+            )
+        })?;
+        let sums: SnapshotSums = serde_json::from_str(&text)
+            .with_context(|| format!("{} is not a snapshot-sums file", path.display()))?;
         let name = sums.scene.name.clone();
         let scene = Scene::from_file(sums.scene, false)
             .with_context(|| format!("the scene of {}", dir.display()))?;

@@ -91,17 +91,6 @@ fn write_json(path: &Path, value: &impl Serialize) -> Result<(), SimError> {
     write_atomic(path, &json)
 }
 
-/// Reads `dir/snapshot_sums.json` as [`write_results`] wrote it.
-pub fn read_snapshot_sums(dir: &Path) -> Result<SnapshotSums, SimError> {
-    let path = dir.join(SNAPSHOT_SUMS);
-    let err = |message: String| SimError::Output {
-        path: path.display().to_string(),
-        message,
-    };
-    let text = std::fs::read_to_string(&path).map_err(|e| err(e.to_string()))?;
-    serde_json::from_str(&text).map_err(|e| err(format!("not a snapshot-sums file: {e}")))
-}
-
 /// Appends one extended-XYZ frame (identity, species, position, radius, velocity, spin) to `file`.
 pub fn append_xyz_frame(file: &mut std::fs::File, sim: &Simulation) -> Result<(), SimError> {
     let p = &sim.particles;

@@ -227,9 +227,12 @@ fn golden_run(scene: &str, golden: &str, dt_limit: &str) {
         "momentum_residual",
         "mean_overlap",
         "max_overlap",
+        "stress_checks",
     ] {
         assert!(!summary[key].is_null(), "summary.json lacks {key}");
     }
+    assert_eq!(summary["observables"]["stress"], "pairs");
+    assert_eq!(summary["observables"]["theta"], "local-window");
     assert_eq!(summary["dt_limit"], dt_limit);
 
     let frames = std::fs::read_to_string(out_dir.join("frames.xyz")).unwrap();
@@ -263,6 +266,31 @@ fn golden_run(scene: &str, golden: &str, dt_limit: &str) {
             }
         }
     }
+
+    // The conventions table recomputes every option from the run's snapshot sums.
+    let out = suspflow(&["conventions", out_dir.to_str().unwrap()]);
+    assert_ok(&out);
+    let table = String::from_utf8_lossy(&out.stdout);
+    for option in [
+        "stress = \"pairs+drag\"",
+        "stress = \"pairs+drag+solvent\"",
+        "theta = \"interpolated-rms\"",
+        "delta_v = \"bin-centre\"",
+        "gdot = \"centred\"",
+        "| golden | 8 |",
+    ] {
+        assert!(table.contains(option), "no `{option}` in\n{table}");
+    }
+    // A directory without a finished run is named in the error.
+    let empty = temp_dir("conventions-empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = suspflow(&["conventions", empty.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("a finished run?"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&empty).ok();
     std::fs::remove_dir_all(&out_dir).ok();
 }
 

@@ -12,8 +12,10 @@ use crate::output::checkpoint;
 use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::binning::Bins;
 use crate::sampling::block_sums::BlockSums;
-use crate::sampling::snapshot;
+use crate::sampling::conventions::Conventions;
+use crate::sampling::snapshot::{self, Sampler};
 use crate::sampling::steady_state::{Drift, SteadyState};
+use crate::sampling::stress_checks::{stress_checks, StressChecks};
 use crate::Vec3;
 use rand::SeedableRng;
 use serde::{Deserialize, Serialize};
@@ -109,6 +111,8 @@ pub struct RunSummary {
     pub wall_s: f64,
     pub particle_steps_per_s: f64,
     pub momentum_residual: Option<f64>,
+    /// The independent checks of the bin-averaged stress.
+    pub stress_checks: StressChecks,
     /// Mean overlap over contacts, averaged over the steady snapshots (units a).
     pub mean_overlap: f64,
     /// Largest overlap ratio seen at a steady snapshot (overlap / smaller radius).
@@ -122,6 +126,8 @@ pub struct RunSummary {
     pub undefined_bins: Vec<usize>,
     pub warnings: Vec<String>,
     pub stress_convention: &'static str,
+    /// The definitions of the observables in the profile.
+    pub observables: Conventions,
     pub code_version: &'static str,
 }
 
@@ -129,6 +135,8 @@ pub struct RunSummary {
 pub struct RunOutcome {
     pub profile: BinAverages,
     pub summary: RunSummary,
+    /// The averaged snapshot sums, from which the profile under any convention follows.
+    pub sums: BlockSums,
 }
 
 /// Constants turning snapshot sums of `scene` into observables.
@@ -145,6 +153,7 @@ pub fn binning_context(scene: &Scene) -> BinningContext {
         u_inf: (0..scene.n_bins)
             .map(|k| scene.profile.u(bins.centre(k)))
             .collect(),
+        conventions: scene.file.observables,
     }
 }
 
@@ -222,6 +231,13 @@ pub fn run(
                     message: "was written for a different scene; remove it or drop --resume".into(),
                 });
             }
+            if st.averaging.sums[0].len() != snapshot::field::FIELDS * scene.n_bins {
+                return Err(SimError::Checkpoint {
+                    path: path.display().to_string(),
+                    message: "holds snapshot sums of an older layout; remove it or drop --resume"
+                        .into(),
+                });
+            }
             (Simulation::restore(scene, system)?, st)
         }
         None => (
@@ -237,6 +253,7 @@ pub fn run(
     let mut last_checkpoint = Instant::now();
     let wall_before = st.wall_s;
     let mut sums_scratch = vec![0.0; snapshot::field::FIELDS * scene.n_bins];
+    let mut sampler = Sampler::new(ctx.bins, ctx.a_mean);
     let interrupt_requested = || opts.interrupt.is_some_and(|f| f.load(Ordering::SeqCst));
     loop {
         while st.steps_into_sample < steps_per_sample {
@@ -255,7 +272,7 @@ pub fn run(
         let strain = gdot * sim.time;
         let t = sim.timers.start();
         sums_scratch.iter_mut().for_each(|x| *x = 0.0);
-        snapshot::accumulate(&sim, &ctx.bins, &mut sums_scratch);
+        sampler.accumulate(&sim, &mut sums_scratch);
         let block = match st.phase {
             Phase::Equilibrating => &mut st.steady.window,
             Phase::Averaging => &mut st.averaging,
@@ -337,6 +354,7 @@ pub fn run(
         wall_s,
         particle_steps_per_s: sim.particles.len() as f64 * sim.step as f64 / wall_s.max(1e-9),
         momentum_residual: profile.momentum_residual,
+        stress_checks: stress_checks(&ctx, &st.averaging),
         mean_overlap: st.overlap_mean_sum / target as f64,
         max_overlap: st.overlap_max,
         list_builds: sim.list_builds,
@@ -347,7 +365,12 @@ pub fn run(
         undefined_bins,
         warnings,
         stress_convention: "sigma = sum of stresslets -F_ij (x) r_ij / V_b, positive in compression (minus the Cauchy stress); P = tr(sigma)/3",
+        observables: scene.file.observables,
         code_version: crate::CODE_VERSION,
     };
-    Ok(RunOutcome { profile, summary })
+    Ok(RunOutcome {
+        profile,
+        summary,
+        sums: st.averaging,
+    })
 }

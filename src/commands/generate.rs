@@ -300,12 +300,7 @@ fn run_scene(
     })?;
     match outcome {
         Ok(outcome) => {
-            sim::output::result_files::write_results(
-                &work.dir,
-                &gs.scene,
-                &outcome.profile,
-                &outcome.summary,
-            )?;
+            sim::output::result_files::write_results(&work.dir, &gs.scene, &outcome)?;
             std::fs::remove_file(work.checkpoint()).ok();
             let s = &outcome.summary;
             log(format!(

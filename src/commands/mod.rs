@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod bench_predict;
 pub mod compare;
+pub mod conventions;
 pub mod generate;
 pub mod merge;
 pub mod plot;

@@ -134,7 +134,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         other => other?,
     };
-    sim::output::result_files::write_results(out, &scene, &outcome.profile, &outcome.summary)?;
+    sim::output::result_files::write_results(out, &scene, &outcome)?;
     let s = &outcome.summary;
     println!("profile: {}", out.join("profile.csv").display());
     println!("summary: {}", out.join("summary.json").display());
@@ -157,6 +157,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "implicit solve: {iterations:.1} conjugate-gradient iterations per step on average"
         );
     }
+    let c = &s.stress_checks;
+    println!(
+        "stress checks: sigma_yy about its mean chi2 = {:.2} per bin (max |z| {:.2}); \
+         d sigma_xy/dy = f_x from the bin stress: residual {} of the drag scale",
+        c.sigma_yy_chi2,
+        c.sigma_yy_max_z,
+        c.balance_residual
+            .map_or("n/a (drag off)".into(), |r| format!("{r:.3}"))
+    );
     for w in &s.warnings {
         eprintln!("warning: {w}");
     }

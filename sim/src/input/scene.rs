@@ -5,6 +5,7 @@ use crate::input::flow_profile::FlowProfile;
 use crate::input::memory_estimate;
 use crate::input::scene_name;
 use crate::integrate::integrator::Integrator;
+use crate::sampling::conventions::Conventions;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -29,6 +30,9 @@ pub struct SceneFile {
     pub forces: ForceSection,
     #[serde(default)]
     pub run: RunSection,
+    /// Definitions of the observables (docs/physics.md section 6); the thesis' by default.
+    #[serde(default)]
+    pub observables: Conventions,
 }
 
 /// Fully periodic box, lengths in units of the small radius a.

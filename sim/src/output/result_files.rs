@@ -1,13 +1,16 @@
 //! Result files: `profile.csv` (one row per bin, the column names of docs/physics.md
-//! section 8 with `_se` standard errors), `summary.json`, and extended-XYZ frames that
-//! OVITO reads.
+//! section 8 with `_se` standard errors), `summary.json`, `snapshot_sums.json` (the scene and
+//! its averaged snapshot sums, from which the profile follows under any observable
+//! convention), and extended-XYZ frames that OVITO reads.
 use crate::error::SimError;
-use crate::input::scene::Scene;
+use crate::input::scene::{Scene, SceneFile};
 use crate::integrate::simulation::Simulation;
 use crate::output::atomic_write::write_atomic;
 use crate::output::dataset_columns::{self, OBSERVABLES};
-use crate::run::RunSummary;
+use crate::run::{RunOutcome, RunSummary};
 use crate::sampling::bin_averages::BinAverages;
+use crate::sampling::block_sums::BlockSums;
+use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
@@ -49,13 +52,18 @@ pub fn profile_rows(scene: &Scene, profile: &BinAverages, summary: &RunSummary) 
     out
 }
 
-/// Writes `dir/profile.csv` and `dir/summary.json` atomically.
-pub fn write_results(
-    dir: &Path,
-    scene: &Scene,
-    profile: &BinAverages,
-    summary: &RunSummary,
-) -> Result<(), SimError> {
+/// Name of the snapshot-sums file in a result directory.
+pub const SNAPSHOT_SUMS: &str = "snapshot_sums.json";
+
+/// Contents of [`SNAPSHOT_SUMS`]: the scene as run and its averaged snapshot sums.
+#[derive(Debug, Serialize, Deserialize)]
+pub struct SnapshotSums {
+    pub scene: SceneFile,
+    pub sums: BlockSums,
+}
+
+/// Writes `dir/profile.csv`, `dir/summary.json` and `dir/snapshot_sums.json` atomically.
+pub fn write_results(dir: &Path, scene: &Scene, outcome: &RunOutcome) -> Result<(), SimError> {
     let err = |e: std::io::Error| SimError::Output {
         path: dir.display().to_string(),
         message: e.to_string(),
@@ -64,14 +72,23 @@ pub fn write_results(
     let csv = format!(
         "{}\n{}",
         dataset_columns::header(),
-        profile_rows(scene, profile, summary)
+        profile_rows(scene, &outcome.profile, &outcome.summary)
     );
     write_atomic(&dir.join("profile.csv"), csv.as_bytes())?;
-    let json = serde_json::to_vec_pretty(summary).map_err(|e| SimError::Output {
-        path: dir.join("summary.json").display().to_string(),
+    write_json(&dir.join("summary.json"), &outcome.summary)?;
+    let sums = SnapshotSums {
+        scene: scene.file.clone(),
+        sums: outcome.sums.clone(),
+    };
+    write_json(&dir.join(SNAPSHOT_SUMS), &sums)
+}
+
+fn write_json(path: &Path, value: &impl Serialize) -> Result<(), SimError> {
+    let json = serde_json::to_vec_pretty(value).map_err(|e| SimError::Output {
+        path: path.display().to_string(),
         message: e.to_string(),
     })?;
-    write_atomic(&dir.join("summary.json"), &json)
+    write_atomic(path, &json)
 }
 
 /// Appends one extended-XYZ frame (identity, species, position, radius, velocity, spin) to `file`.

@@ -1,9 +1,13 @@
-//! Bin averages: the binned steady-state observables (docs/physics.md, section
-//! Observables) from snapshot sums: u, gdot, stress, P, phi_loc, J, mu, Theta, Delta_v per
-//! bin, their batch-means standard errors, and the momentum-balance residual.
+//! Bin averages: the binned steady-state observables (docs/physics.md section 6) from
+//! snapshot sums, under the conventions chosen: u, gdot, stress, P, phi_loc, J, mu, Theta,
+//! Delta_v per bin, their batch-means standard errors, and the momentum-balance residual.
 use crate::error::SimError;
 use crate::sampling::binning::Bins;
 use crate::sampling::block_sums::BlockSums;
+use crate::sampling::conventions::{
+    Conventions, DeltaVConvention, GdotConvention, StressConvention, ThetaConvention,
+};
+use crate::sampling::periodic_derivative;
 use crate::sampling::snapshot::field::*;
 use serde::Serialize;
 
@@ -23,6 +27,8 @@ pub struct BinningContext {
     pub a_mean: f64,
     /// Streaming velocity at the bin centres.
     pub u_inf: Vec<f64>,
+    /// Which definition of each observable.
+    pub conventions: Conventions,
 }
 
 /// Per-bin observables. Stresses use the positive-in-compression convention
@@ -32,8 +38,9 @@ pub struct BinningContext {
 pub struct Observables {
     /// Mean x-velocity of the particles centred in the bin.
     pub u: Vec<f64>,
-    /// `du/dy`, centred periodic differences of u.
+    /// `du/dy` of the time-averaged u ([`GdotConvention`]).
     pub gdot: Vec<f64>,
+    /// Shear stress under the [`StressConvention`].
     pub sigma_xy: Vec<f64>,
     #[serde(rename = "P")]
     pub p: Vec<f64>,
@@ -112,8 +119,9 @@ pub struct BinAverages {
     pub snapshots: usize,
 }
 
-/// Observables of summed snapshots `s` (`n` snapshots). Theta uses fluctuations about
-/// `u_star`, the linear interpolation between bin centres of the bin means given.
+/// Observables of summed snapshots `s` (`n` snapshots) under `ctx.conventions`. The
+/// interpolated-r.m.s. Theta uses fluctuations about `u_star`, the linear interpolation
+/// between bin centres of the bin means given.
 pub fn observables(
     ctx: &BinningContext,
     s: &[f64],
@@ -121,9 +129,11 @@ pub fn observables(
     u_star: &[f64],
 ) -> Result<Observables, SimError> {
     let nb = ctx.bins.count;
+    let c = &ctx.conventions;
     let per = |f: usize, k: usize| s[f * nb + k];
     let norm = 1.0 / (n as f64 * ctx.bin_volume);
     let mut o = Observables::default();
+    let mut du = Vec::with_capacity(nb);
     for k in 0..nb {
         let count = per(COUNT, k);
         if count == 0.0 {
@@ -134,35 +144,53 @@ pub fn observables(
         o.count.push(count / n as f64);
         o.u.push(per(VX, k) / count);
         o.phi_loc.push(per(VOLUME, k) * norm);
-        o.sigma_xy.push(per(SXY, k) * norm);
         o.p.push((per(SXX, k) + per(SYY, k) + per(SZZ, k)) * norm / 3.0);
         o.f_x.push(per(DRAG_X, k) * norm);
-        o.delta_v
-            .push((ctx.u_inf[k] - o.u[k]).abs() / (ctx.u_inf[k].abs() + DELTA_V_EPS));
-        // Sum of (v - u*)^2 over the bin from the interpolation sums.
-        let (below, here, above) = (u_star[(k + nb - 1) % nb], u_star[k], u_star[(k + 1) % nb]);
-        let half = |base: usize, left: f64, right: f64| {
-            -2.0 * (left * per(base, k) + right * per(base + 1, k))
-                + left * left * per(base + 2, k)
-                + 2.0 * left * right * per(base + 3, k)
-                + right * right * per(base + 4, k)
-        };
-        let fluct2 =
-            (per(VX2, k) + half(LOWER, below, here) + half(UPPER, here, above)).max(0.0) / count;
-        o.theta.push(ctx.eta * fluct2.sqrt() / ctx.a_mean);
-    }
-    for k in 0..nb {
-        let g = (o.u[(k + 1) % nb] - o.u[(k + nb - 1) % nb]) / (2.0 * ctx.bins.width);
-        o.gdot.push(g);
-        let p = o.p[k];
-        let ok = p > 0.0;
-        o.j.push(if ok { ctx.eta * g.abs() / p } else { f64::NAN });
-        o.mu.push(if ok {
-            o.sigma_xy[k].abs() / p
-        } else {
-            f64::NAN
+        let pairs = per(SXY, k) * norm;
+        o.sigma_xy.push(match c.stress {
+            StressConvention::Pairs => pairs,
+            _ => pairs + per(SXY_DRAG, k) * norm,
         });
-        o.theta[k] = if ok { o.theta[k] / p } else { f64::NAN };
+        let u_inf = match c.delta_v {
+            DeltaVConvention::ParticleAverage => per(U_INF, k) / count,
+            DeltaVConvention::BinCentre => ctx.u_inf[k],
+        };
+        o.delta_v
+            .push((u_inf - o.u[k]).abs() / (u_inf.abs() + DELTA_V_EPS));
+        du.push(match c.theta {
+            ThetaConvention::LocalWindow => per(LOCAL_DU, k) / count,
+            ThetaConvention::InterpolatedRms => {
+                // Sum of (v - u*)^2 over the bin from the interpolation sums.
+                let (below, here, above) =
+                    (u_star[(k + nb - 1) % nb], u_star[k], u_star[(k + 1) % nb]);
+                let half = |base: usize, left: f64, right: f64| {
+                    -2.0 * (left * per(base, k) + right * per(base + 1, k))
+                        + left * left * per(base + 2, k)
+                        + 2.0 * left * right * per(base + 3, k)
+                        + right * right * per(base + 4, k)
+                };
+                ((per(VX2, k) + half(LOWER, below, here) + half(UPPER, here, above)).max(0.0)
+                    / count)
+                    .sqrt()
+            }
+        });
+    }
+    o.gdot = match c.gdot {
+        GdotConvention::Spectral => periodic_derivative::spectral(&o.u, ctx.bins.width),
+        GdotConvention::Centred => periodic_derivative::centred(&o.u, ctx.bins.width),
+    };
+    if c.stress == StressConvention::PairsDragSolvent {
+        // The solvent's Cauchy shear stress eta gdot, with the compression-positive sign.
+        for (sigma, g) in o.sigma_xy.iter_mut().zip(&o.gdot) {
+            *sigma -= ctx.eta * g;
+        }
+    }
+    for (k, du) in du.into_iter().enumerate() {
+        let p = o.p[k];
+        let defined = |v: f64| if p > 0.0 { v / p } else { f64::NAN };
+        o.j.push(defined(ctx.eta * o.gdot[k].abs()));
+        o.mu.push(defined(o.sigma_xy[k].abs()));
+        o.theta.push(defined(ctx.eta * du / ctx.a_mean));
     }
     Ok(o)
 }

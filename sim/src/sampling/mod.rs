@@ -4,6 +4,11 @@
 pub mod bin_averages;
 pub mod binning;
 pub mod block_sums;
+pub mod convention_effects;
+pub mod conventions;
+pub mod local_velocity;
+pub mod periodic_derivative;
 pub mod run_length;
 pub mod snapshot;
 pub mod steady_state;
+pub mod stress_checks;

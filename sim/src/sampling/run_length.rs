@@ -7,7 +7,7 @@ use crate::input::scene::Scene;
 use crate::run::{Phase, RunOptions, RunSummary};
 use crate::sampling::bin_averages::BinAverages;
 use crate::sampling::block_sums::BlockSums;
-use crate::sampling::snapshot::{self, field::FIELDS};
+use crate::sampling::snapshot::{field::FIELDS, Sampler};
 use crate::SimError;
 use std::time::Instant;
 
@@ -70,6 +70,7 @@ pub fn sample(scene: &Scene, partial: usize, reference: usize) -> Result<Sampled
     let mut reference_sums = BlockSums::new(nb, 10, reference / 10);
     let mut wall_to_steady_s = f64::NAN;
     let mut seen = 0;
+    let mut sampler = Sampler::new(ctx.bins, ctx.a_mean);
     let outcome = crate::run::run(&scene, &RunOptions::default(), &mut |p, s| {
         if p.phase != Phase::Averaging {
             return;
@@ -82,7 +83,7 @@ pub fn sample(scene: &Scene, partial: usize, reference: usize) -> Result<Sampled
         }
         seen = p.snapshots;
         let mut sums = vec![0.0; FIELDS * nb];
-        snapshot::accumulate(s, &ctx.bins, &mut sums);
+        sampler.accumulate(s, &mut sums);
         if snaps.len() < partial {
             snaps.push(sums);
             walls.push(started.elapsed().as_secs_f64());

@@ -1,10 +1,16 @@
 //! One sample of the per-bin sums from which every observable of docs/physics.md section 6 is
-//! built: particle counts, velocities, solid volumes, stresslet sums (method of planes),
-//! plane stresses at the bin faces, drag forces, and the sums that give the velocity
-//! fluctuations about an interpolated mean profile.
+//! built, under every convention at once: particle counts, velocities, streaming velocities,
+//! solid volumes, pair stresslet sums (method of planes), drag stresslets, plane stresses at
+//! the bin faces, drag forces, and the sums that give the velocity fluctuations (about the
+//! local mean of section 6.3 and about an interpolated mean profile).
 use crate::forces::drag;
 use crate::integrate::simulation::Simulation;
 use crate::sampling::binning::Bins;
+use crate::sampling::local_velocity::LocalVelocity;
+
+/// Half-width of the window of the local mean velocity `u*_i`, in mean radii (thesis
+/// section 6.3: `+-0.1 a`).
+pub const LOCAL_WINDOW: f64 = 0.1;
 
 /// Field indices of a snapshot; a snapshot is `FIELDS x n_bins` numbers, field-major.
 pub mod field {
@@ -14,13 +20,14 @@ pub mod field {
     pub const VX: usize = 1;
     /// Solid volume inside the slab (spherical caps).
     pub const VOLUME: usize = 2;
-    /// Stresslet sums, pairs (method of planes) plus drag, `S_ab = -F_a r_b`.
+    /// Pair stresslet sums (method of planes), `S_ab = -F_a r_b`.
     pub const SXX: usize = 3;
     pub const SYY: usize = 4;
     pub const SZZ: usize = 5;
     pub const SXY: usize = 6;
-    /// xy stresslet sum of the pairs alone.
-    pub const SXY_PAIR: usize = 7;
+    /// xy drag stresslet sum of the particles centred in the bin (the drag stresslet is
+    /// traceless and has no other component).
+    pub const SXY_DRAG: usize = 7;
     /// Sum of the x drag forces on the bin's particles.
     pub const DRAG_X: usize = 8;
     /// Sum of the squared x-velocities.
@@ -33,27 +40,64 @@ pub mod field {
     /// Sum over pairs crossing the bin's lower face of `F_x sign(r_y)`, the x force on the
     /// particle below from the particle above (Cauchy traction times face area).
     pub const FACE_FX: usize = 20;
+    /// Sum of the streaming velocities `u_inf(y_i)` of the bin's particles.
+    pub const U_INF: usize = 21;
+    /// Sum of `|v_x,i - u*_i|` over the bin's particles, `u*_i` the local mean velocity
+    /// within [`LOCAL_WINDOW`](super::LOCAL_WINDOW) mean radii of `y_i`.
+    pub const LOCAL_DU: usize = 22;
     /// Number of fields.
-    pub const FIELDS: usize = 21;
+    pub const FIELDS: usize = 23;
 }
 
-/// Adds one snapshot of `sim` into `out` (length `FIELDS * bins.count`).
-pub fn accumulate(sim: &Simulation, bins: &Bins, out: &mut [f64]) {
+/// Takes snapshots of a simulation into per-bin sums; keeps its scratch buffers.
+#[derive(Clone, Debug)]
+pub struct Sampler {
+    pub bins: Bins,
+    /// Mean particle radius, the `a` of the local window.
+    pub a_mean: f64,
+    local: LocalVelocity,
+}
+
+impl Sampler {
+    pub fn new(bins: Bins, a_mean: f64) -> Self {
+        Self {
+            bins,
+            a_mean,
+            local: LocalVelocity::default(),
+        }
+    }
+
+    /// Adds one snapshot of `sim` into `out` (length `FIELDS * bins.count`).
+    pub fn accumulate(&mut self, sim: &Simulation, out: &mut [f64]) {
+        let l_y = self.bins.width * self.bins.count as f64;
+        let p = &sim.particles;
+        let du = self
+            .local
+            .deviations(&p.pos, &p.vel, l_y, LOCAL_WINDOW * self.a_mean);
+        accumulate(sim, &self.bins, du, out);
+    }
+}
+
+/// Adds one snapshot of `sim` into `out`, with `local_du[i] = |v_x,i - u*_i|`.
+fn accumulate(sim: &Simulation, bins: &Bins, local_du: &[f64], out: &mut [f64]) {
     use field::*;
     let nb = bins.count;
     let p = &sim.particles;
     let eta = sim.field.eta;
-    for i in 0..p.len() {
+    for (i, &local_du) in local_du.iter().enumerate() {
         let (y, a, vx) = (p.pos[i].y, p.radius[i], p.vel[i].x);
         let k = bins.index(y);
+        let u_inf = sim.profile.u(y);
         out[COUNT * nb + k] += 1.0;
         out[VX * nb + k] += vx;
         out[VX2 * nb + k] += vx * vx;
+        out[U_INF * nb + k] += u_inf;
+        out[LOCAL_DU * nb + k] += local_du;
         bins.add_sphere_volume(y, a, &mut out[VOLUME * nb..(VOLUME + 1) * nb]);
         if sim.field.drag {
             let du = sim.profile.du_dy(y);
-            out[DRAG_X * nb + k] += drag::force(eta, a, sim.profile.u(y), &p.vel[i]).x;
-            out[SXY * nb + k] += drag::stresslet_xy(eta, a, du);
+            out[DRAG_X * nb + k] += drag::force(eta, a, u_inf, &p.vel[i]).x;
+            out[SXY_DRAG * nb + k] += drag::stresslet_xy(eta, a, du);
         }
         let centre = bins.centre(k);
         let (base, t) = if y < centre {
@@ -88,7 +132,6 @@ pub fn accumulate(sim: &Simulation, bins: &Bins, out: &mut [f64]) {
                 out[SYY * nb + k] += frac * s[(1, 1)];
                 out[SZZ * nb + k] += frac * s[(2, 2)];
                 out[SXY * nb + k] += frac * s[(0, 1)];
-                out[SXY_PAIR * nb + k] += frac * s[(0, 1)];
             });
             let (lo, hi) = if o.r.y > 0.0 {
                 (y_i, y_i + o.r.y)

@@ -12,6 +12,7 @@ use crate::output::checkpoint;
 use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::binning::Bins;
 use crate::sampling::block_sums::BlockSums;
+use crate::sampling::shear_rheology::ShearRheology;
 use crate::sampling::snapshot;
 use crate::sampling::steady_state::{Drift, SteadyState};
 use crate::Vec3;
@@ -109,6 +110,9 @@ pub struct RunSummary {
     pub wall_s: f64,
     pub particle_steps_per_s: f64,
     pub momentum_residual: Option<f64>,
+    /// Box totals of a homogeneous-shear scene (docs/physics.md section 10).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shear: Option<ShearRheology>,
     /// Mean overlap over contacts, averaged over the steady snapshots (units a).
     pub mean_overlap: f64,
     /// Largest overlap ratio seen at a steady snapshot (overlap / smaller radius).
@@ -142,6 +146,9 @@ pub fn binning_context(scene: &Scene) -> BinningContext {
         u_inf: (0..scene.n_bins)
             .map(|k| scene.profile.u(bins.centre(k)))
             .collect(),
+        image_velocity: scene
+            .shear_rate()
+            .map_or(0.0, |gdot| gdot * scene.box_len[1]),
     }
 }
 
@@ -334,6 +341,9 @@ pub fn run(
         wall_s,
         particle_steps_per_s: sim.particles.len() as f64 * sim.step as f64 / wall_s.max(1e-9),
         momentum_residual: profile.momentum_residual,
+        shear: scene
+            .shear_rate()
+            .map(|g| ShearRheology::from_blocks(&ctx, &st.averaging, g)),
         mean_overlap: st.overlap_mean_sum / target as f64,
         max_overlap: st.overlap_max,
         list_builds: sim.list_builds,

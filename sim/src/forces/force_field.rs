@@ -27,7 +27,7 @@ pub struct PairConstants {
 #[derive(Clone, Copy, Debug)]
 pub struct PairOutcome {
     pub load: PairLoad,
-    /// Minimum-image separation `x_j - x_i`.
+    /// Minimum-image separation `x_j - x_i` (through the sliding images of a sheared box).
     pub r: Vec3,
     /// Overlap `a_i + a_j - |r|` (negative when apart).
     pub overlap: f64,
@@ -100,7 +100,9 @@ impl ForceField {
         self.contact.is_some_and(|c| c.frictional())
     }
 
-    /// Load of the pair (i, j), or `None` when they are beyond the cut-off. `spring` is
+    /// Load of the pair (i, j), or `None` when they are beyond the cut-off; through a
+    /// sliding y image of a sheared box, j moves with its image's velocity
+    /// (docs/physics.md section 10). `spring` is
     /// the pair's tangential contact history (frictional scenes only), advanced by `dt`.
     #[inline]
     pub fn pair(
@@ -113,7 +115,7 @@ impl ForceField {
         dt: f64,
     ) -> Option<PairOutcome> {
         let c = self.constants(p.species[i], p.species[j]);
-        let r = pbox.separation(&p.pos[i], &p.pos[j]);
+        let (r, image) = pbox.image(&p.pos[i], &p.pos[j]);
         let d2 = r.norm_squared();
         if d2 >= c.reach_squared {
             if let Some(s) = spring {
@@ -124,7 +126,10 @@ impl ForceField {
         let d = d2.sqrt();
         let n = r / d;
         let overlap = c.contact_distance - d;
-        let dv = p.vel[j] - p.vel[i];
+        let mut dv = p.vel[j] - p.vel[i];
+        if image != 0 {
+            dv += pbox.image_velocity(image);
+        }
         let mut load = PairLoad::default();
         if let Some(lub) = &c.lubrication {
             load = lub.load(

@@ -23,6 +23,21 @@ pub struct BinningContext {
     pub a_mean: f64,
     /// Streaming velocity at the bin centres.
     pub u_inf: Vec<f64>,
+    /// x velocity of the periodic image above relative to the box: `gdot L_y` in a
+    /// sheared (Lees-Edwards) box, 0 otherwise (docs/physics.md section 10). The bin above
+    /// the top bin is the bottom bin moving this much faster.
+    pub image_velocity: f64,
+}
+
+impl BinningContext {
+    /// A bin velocity `v` of bin `k` + `step` (`step` = -1, 0, 1), wrapped periodically
+    /// and shifted by the image velocity where it wraps across a y face.
+    fn neighbour(&self, v: &[f64], k: usize, step: isize) -> f64 {
+        let nb = self.bins.count as isize;
+        let raw = k as isize + step;
+        let image = raw.div_euclid(nb) as f64;
+        v[raw.rem_euclid(nb) as usize] + image * self.image_velocity
+    }
 }
 
 /// Per-bin observables. Stresses use the positive-in-compression convention
@@ -140,7 +155,11 @@ pub fn observables(
         o.delta_v
             .push((ctx.u_inf[k] - o.u[k]).abs() / (ctx.u_inf[k].abs() + DELTA_V_EPS));
         // Sum of (v - u*)^2 over the bin from the interpolation sums.
-        let (below, here, above) = (u_star[(k + nb - 1) % nb], u_star[k], u_star[(k + 1) % nb]);
+        let (below, here, above) = (
+            ctx.neighbour(u_star, k, -1),
+            u_star[k],
+            ctx.neighbour(u_star, k, 1),
+        );
         let half = |base: usize, left: f64, right: f64| {
             -2.0 * (left * per(base, k) + right * per(base + 1, k))
                 + left * left * per(base + 2, k)
@@ -152,7 +171,7 @@ pub fn observables(
         o.theta.push(ctx.eta * fluct2.sqrt() / ctx.a_mean);
     }
     for k in 0..nb {
-        let g = (o.u[(k + 1) % nb] - o.u[(k + nb - 1) % nb]) / (2.0 * ctx.bins.width);
+        let g = (ctx.neighbour(&o.u, k, 1) - ctx.neighbour(&o.u, k, -1)) / (2.0 * ctx.bins.width);
         o.gdot.push(g);
         let p = o.p[k];
         let ok = p > 0.0;

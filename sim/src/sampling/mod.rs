@@ -1,9 +1,10 @@
 //! From particles to local observables: bins along y, per-snapshot sums, time averages with
-//! standard errors, and the steady-state test.
+//! standard errors, the box totals of homogeneous shear, and the steady-state test.
 
 pub mod bin_averages;
 pub mod binning;
 pub mod block_sums;
 pub mod run_length;
+pub mod shear_rheology;
 pub mod snapshot;
 pub mod steady_state;

@@ -413,15 +413,17 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
         "1",
     ]);
     assert_ok(&generated);
-    let fitted = suspflow(&[
-        "flow-curves",
-        "tests/grids/tiny_shear.toml",
-        "--runs",
-        runs.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_ok(&fitted);
+    let flow_curves = |grid: &str| {
+        suspflow(&[
+            "flow-curves",
+            grid,
+            "--runs",
+            runs.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    assert_ok(&flow_curves("tests/grids/tiny_shear.toml"));
     let (header, rows) = read_csv(&out.join("flow_curves.csv"));
     assert_eq!(rows.len(), 6);
     let column = |name: &str| header.iter().position(|h| h == name).unwrap();
@@ -441,14 +443,7 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
             .unwrap()
             .contains("seeds&apos; law"));
     }
-    let refused = suspflow(&[
-        "flow-curves",
-        "tests/grids/tiny.toml",
-        "--runs",
-        runs.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let refused = flow_curves("tests/grids/tiny.toml");
     let stderr = String::from_utf8_lossy(&refused.stderr);
     assert!(
         !refused.status.success() && stderr.contains("has no fluid.shear_rate"),

@@ -6,6 +6,8 @@
 pub mod commands;
 mod dataset_file;
 mod file_lock;
+mod jamming_law;
+mod local_viscosity;
 mod output_guard;
 mod plots;
 mod prediction_timing;

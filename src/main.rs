@@ -21,6 +21,9 @@ enum Command {
     Simulate(commands::simulate::Args),
     /// Run every scene of a grid (resumably, in parallel) into one dataset.
     Generate(commands::generate::Args),
+    /// Flow curves of a homogeneous-shear grid run by `generate`: fit of phi_J and lambda,
+    /// figures, and the local-versus-homogeneous viscosity.
+    FlowCurves(commands::flow_curves::Args),
     /// Combine datasets of distinct scenes (e.g. the shards of a grid) into one.
     Merge(commands::merge::Args),
     /// Plot every scene of a dataset along y (u, phi_loc, mu, J, Theta, Delta_v) as SVG.
@@ -55,6 +58,7 @@ fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
         Command::Simulate(args) => commands::simulate::run(args),
         Command::Generate(args) => commands::generate::run(args),
+        Command::FlowCurves(args) => commands::flow_curves::run(args),
         Command::Merge(args) => commands::merge::run(args),
         Command::Plot(args) => commands::plot::run(args),
         Command::Report(args) => commands::report::run(args),

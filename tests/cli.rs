@@ -439,3 +439,59 @@ fn simulate_keeps_earlier_runs_and_resume_appends_frames() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("--snapshot <N>"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
+    let dir = temp_dir("flow-curves");
+    let (runs, out) = (dir.join("runs"), dir.join("report"));
+    let generated = suspflow(&[
+        "generate",
+        "tests/grids/tiny_shear.toml",
+        "--out",
+        dir.join("bins.csv").to_str().unwrap(),
+        "--work",
+        runs.to_str().unwrap(),
+        "--jobs",
+        "2",
+        "--threads",
+        "1",
+    ]);
+    assert_ok(&generated);
+    let flow_curves = |grid: &str| {
+        suspflow(&[
+            "flow-curves",
+            grid,
+            "--runs",
+            runs.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    assert_ok(&flow_curves("tests/grids/tiny_shear.toml"));
+    let (header, rows) = read_csv(&out.join("flow_curves.csv"));
+    assert_eq!(rows.len(), 6);
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    for row in &rows {
+        let eta_r: f64 = row[column("eta_r")].parse().unwrap();
+        let bins: f64 = row[column("eta_r_bins")].parse().unwrap();
+        // The bins add the drag stresslet, (5/2) phi eta gdot, to the pairs' stress (an
+        // identity of the two sums, checked to round-off).
+        let phi: f64 = row[column("phi_actual")].parse().unwrap();
+        assert!(eta_r > 1.0, "{row:?}");
+        assert!((bins - eta_r - 2.5 * phi).abs() < 1e-9 * bins, "{row:?}");
+    }
+    let readme = std::fs::read_to_string(out.join("README.md")).unwrap();
+    assert!(readme.contains("| pair stresslets (box) | 0.") && readme.contains("seed 2:"));
+    for svg in ["eta_r.svg", "mu_J.svg"] {
+        assert!(std::fs::read_to_string(out.join(svg))
+            .unwrap()
+            .contains("seeds&apos; law"));
+    }
+    let refused = flow_curves("tests/grids/tiny.toml");
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && stderr.contains("has no fluid.shear_rate"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

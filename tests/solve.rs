@@ -133,3 +133,13 @@ fn a_flow_beyond_the_trees_range_is_refused_not_half_solved() {
     );
     std::fs::remove_dir_all(&out).ok();
 }
+
+#[test]
+fn homogeneous_shear_is_refused_naming_the_field() {
+    let out = scratch("shear");
+    let result = suspflow(&["solve", "scenes/shear.toml", "--out", s(&out)]);
+    assert!(!result.status.success());
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(stderr.contains("fluid.shear_rate"), "{stderr}");
+    assert!(!out.join("profile.csv").exists());
+}

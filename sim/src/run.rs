@@ -14,6 +14,7 @@ use crate::sampling::binning::Bins;
 use crate::sampling::block_sums::BlockSums;
 use crate::sampling::conventions::Conventions;
 use crate::sampling::snapshot::{self, Sampler};
+use crate::sampling::shear_rheology::ShearRheology;
 use crate::sampling::steady_state::{Drift, SteadyState};
 use crate::sampling::stress_checks::{stress_checks, StressChecks};
 use crate::Vec3;
@@ -113,6 +114,9 @@ pub struct RunSummary {
     pub momentum_residual: Option<f64>,
     /// The independent checks of the bin-averaged stress.
     pub stress_checks: StressChecks,
+    /// Box totals of a homogeneous-shear scene (docs/physics.md section 10).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shear: Option<ShearRheology>,
     /// Mean overlap over contacts, averaged over the steady snapshots (units a).
     pub mean_overlap: f64,
     /// Largest overlap ratio seen at a steady snapshot (overlap / smaller radius).
@@ -154,6 +158,9 @@ pub fn binning_context(scene: &Scene) -> BinningContext {
             .map(|k| scene.profile.u(bins.centre(k)))
             .collect(),
         conventions: scene.file.observables,
+        image_velocity: scene
+            .shear_rate()
+            .map_or(0.0, |gdot| gdot * scene.box_len[1]),
     }
 }
 
@@ -355,6 +362,9 @@ pub fn run(
         particle_steps_per_s: sim.particles.len() as f64 * sim.step as f64 / wall_s.max(1e-9),
         momentum_residual: profile.momentum_residual,
         stress_checks: stress_checks(&ctx, &st.averaging),
+        shear: scene
+            .shear_rate()
+            .map(|g| ShearRheology::from_blocks(&ctx, &st.averaging, g)),
         mean_overlap: st.overlap_mean_sum / target as f64,
         max_overlap: st.overlap_max,
         list_builds: sim.list_builds,

@@ -10,9 +10,15 @@ use sim::SimError;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-fn tiny() -> Scene {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/scenes/good/tiny.toml");
+fn test_scene(name: &str) -> Scene {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/scenes/good")
+        .join(name);
     Scene::from_path(&path, false).unwrap()
+}
+
+fn tiny() -> Scene {
+    test_scene("tiny.toml")
 }
 
 fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
@@ -37,20 +43,27 @@ fn rows(
             }
         }
     })?;
-    Ok(profile_rows(scene, &out.profile, &out.summary))
+    // The box totals of a sheared scene too (absent otherwise).
+    Ok(format!(
+        "{}{:?}",
+        profile_rows(scene, &out.profile, &out.summary),
+        out.summary.shear
+    ))
 }
 
-#[test]
-fn same_seed_same_output_and_resume_is_identical() {
-    static STOP: AtomicBool = AtomicBool::new(false);
-    let scene = tiny();
-    let dir = std::env::temp_dir().join(format!("suspflow-resume-{}", std::process::id()));
+/// Same seed, same output; a run interrupted twice and resumed reproduces it bit for bit.
+fn assert_reproducible(scene: &Scene, stop: &'static AtomicBool) {
+    let dir = std::env::temp_dir().join(format!(
+        "suspflow-resume-{}-{}",
+        scene.file.name,
+        std::process::id()
+    ));
     std::fs::create_dir_all(&dir).unwrap();
     let checkpoint = dir.join("checkpoint.json");
     on_threads(2, || {
         let plain = RunOptions::default();
-        let first = rows(&scene, &plain, None).unwrap();
-        let second = rows(&scene, &plain, None).unwrap();
+        let first = rows(scene, &plain, None).unwrap();
+        let second = rows(scene, &plain, None).unwrap();
         assert_eq!(
             first, second,
             "same seed, same threads: output must be identical"
@@ -61,24 +74,37 @@ fn same_seed_same_output_and_resume_is_identical() {
         let opts = RunOptions {
             checkpoint: Some(checkpoint.clone()),
             resume: true,
-            interrupt: Some(&STOP),
+            interrupt: Some(stop),
         };
         for stop_at in [7, 45] {
-            STOP.store(false, Ordering::SeqCst);
-            match rows(&scene, &opts, Some((stop_at, &STOP))) {
+            stop.store(false, Ordering::SeqCst);
+            match rows(scene, &opts, Some((stop_at, stop))) {
                 Err(SimError::Interrupted { .. }) => {}
                 other => panic!("expected an interruption, got {:?}", other.map(|_| ())),
             }
             assert!(checkpoint.exists());
         }
-        STOP.store(false, Ordering::SeqCst);
-        let resumed = rows(&scene, &opts, None).unwrap();
+        stop.store(false, Ordering::SeqCst);
+        let resumed = rows(scene, &opts, None).unwrap();
         assert_eq!(
             first, resumed,
             "checkpoint + resume must reproduce the uninterrupted run"
         );
     });
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn same_seed_same_output_and_resume_is_identical() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    assert_reproducible(&tiny(), &STOP);
+}
+
+/// The same in homogeneous shear, where the image offset is part of the state.
+#[test]
+fn sheared_run_resumes_identically() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    assert_reproducible(&test_scene("tiny_shear.toml"), &STOP);
 }
 
 #[test]

@@ -269,7 +269,7 @@ fn run_scene(
         gs.scene.n_particles(),
         gs.scene.box_len[1],
         gs.scene.file.particles.phi,
-        gs.scene.file.fluid.profile
+        gs.scene.profile.expr()
     ));
     let opts = RunOptions {
         checkpoint: Some(work.checkpoint()),
@@ -369,7 +369,7 @@ fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()>
             l_y.to_string(),
             l_z.to_string(),
             f.particles.phi.to_string(),
-            f.fluid.profile.clone(),
+            gs.scene.profile.expr().to_string(),
             f.seed.to_string(),
             gs.scene.rho.to_string(),
             gs.scene.stokes.to_string(),
@@ -436,7 +436,7 @@ fn print_check(scenes: &[&GridScene]) {
             s.stokes,
             TimeStep::for_scene(s).dt,
             c,
-            s.file.fluid.profile
+            s.profile.expr()
         );
     }
     println!("{} scenes, about {total:.3e} particle-steps (equilibration capped at 10 strain, plus averaging)", scenes.len());

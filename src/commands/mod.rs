@@ -5,6 +5,7 @@ pub mod bench;
 pub mod bench_predict;
 pub mod compare;
 pub mod conventions;
+pub mod flow_curves;
 pub mod generate;
 pub mod merge;
 pub mod plot;

@@ -72,6 +72,13 @@ struct Summary<'a> {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let scene = Scene::from_path(&args.scene, false)?;
+    if scene.shear_rate().is_some() {
+        anyhow::bail!(
+            "{}: homogeneous shear (fluid.shear_rate) has no forcing profile to solve for; \
+             solve takes scenes with fluid.profile",
+            args.scene.display()
+        );
+    }
     let profile_csv = args.out.join("profile.csv");
     output_guard::out_dir(&args.out)?;
     output_guard::refuse_unless_force(

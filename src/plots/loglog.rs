@@ -1,6 +1,7 @@
 //! Log-log line charts as SVG (error against run length, wall time or training time), with
 //! an optional guide line of a given slope (e.g. -1/2 for a statistical error falling as
 //! 1/sqrt(time)).
+use crate::plots::chart_frame::{canvas, chart, legend, log_bounds};
 use crate::plots::profile_panels::COLOURS;
 use anyhow::Context;
 use plotters::prelude::*;
@@ -35,39 +36,21 @@ fn usable(lines: &[Line]) -> impl Iterator<Item = (f64, f64)> + '_ {
 fn draw_inner(
     path: &Path,
     title: &str,
-    (x_label, y_label): (&str, &str),
+    axes: (&str, &str),
     lines: &[Line],
     guide: Option<f64>,
 ) -> anyhow::Result<()> {
-    let bounds = |f: fn((f64, f64)) -> f64| {
-        let (lo, hi) = usable(lines)
-            .map(f)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                (a.min(v), b.max(v))
-            });
-        if lo > hi {
-            (0.1, 10.0)
-        } else {
-            (lo / 1.5, hi * 1.5)
-        }
-    };
+    let bounds = |f: fn((f64, f64)) -> f64| log_bounds(usable(lines).map(f), 1.5);
     let (x0, x1) = bounds(|p| p.0);
     let (y0, y1) = bounds(|p| p.1);
-    let root = SVGBackend::new(path, (760, 520)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 18))
-        .margin(14)
-        .x_label_area_size(44)
-        .y_label_area_size(64)
-        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
-        .draw()?;
+    let root = canvas(path)?;
+    let mut chart = chart(
+        &root,
+        title,
+        axes,
+        (x0..x1).log_scale(),
+        (y0..y1).log_scale(),
+    )?;
     for (i, line) in lines.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         let pts: Vec<(f64, f64)> = usable(std::slice::from_ref(line)).collect();
@@ -91,37 +74,7 @@ fn draw_inner(
             .label(format!("slope {slope}"))
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RGBColor(120, 120, 120)));
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()?;
+    legend(&mut chart, SeriesLabelPosition::UpperRight)?;
     root.present()?;
     Ok(())
-}
-
-/// A tick label with at most three significant digits, e.g. `0.3`, `150`, `2e-5`.
-fn tick(v: f64) -> String {
-    if (1e-3..1e5).contains(&v.abs()) {
-        let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
-        let s = format!("{v:.digits$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    } else {
-        format!("{v:.0e}")
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn ticks_are_short() {
-        assert_eq!(super::tick(0.30000000000000004), "0.3");
-        assert_eq!(super::tick(150.0), "150");
-        assert_eq!(super::tick(0.0123456), "0.0123");
-        assert_eq!(super::tick(2e-5), "2e-5");
-    }
 }

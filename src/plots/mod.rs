@@ -1,6 +1,9 @@
-//! SVG figures: profiles along y (`profile_panels`), log-log error curves (`loglog`) and the
-//! stability map (`stability_map`).
+//! SVG figures: profiles along y (`profile_panels`), log-log error curves (`loglog`), the
+//! stability map (`stability_map`) and measured points beside model curves
+//! (`data_and_laws`), on a shared frame (`chart_frame`).
 
+pub mod chart_frame;
+pub mod data_and_laws;
 pub mod loglog;
 pub mod profile_panels;
 pub mod stability_map;

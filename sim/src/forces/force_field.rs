@@ -27,7 +27,7 @@ pub struct PairConstants {
 #[derive(Clone, Copy, Debug)]
 pub struct PairOutcome {
     pub load: PairLoad,
-    /// Minimum-image separation `x_j - x_i`.
+    /// Minimum-image separation `x_j - x_i` (through the sliding images of a sheared box).
     pub r: Vec3,
     /// Unit vector `r / |r|` from i to j.
     pub n: Vec3,
@@ -105,8 +105,9 @@ impl ForceField {
     }
 
     /// Load of the pair (i, j), or `None` when they are beyond the cut-off: contact plus
-    /// lubrication at the current velocities. `spring` is the pair's tangential contact
-    /// history (frictional scenes only), advanced by `dt`.
+    /// lubrication at the current velocities; through a sliding y image of a sheared box,
+    /// j moves with its image's velocity (docs/physics.md section 10). `spring` is the
+    /// pair's tangential contact history (frictional scenes only), advanced by `dt`.
     #[inline]
     pub fn pair(
         &self,
@@ -126,8 +127,9 @@ impl ForceField {
     }
 
     /// The contact load of the pair (i, j) and its lubrication resistance, not applied
-    /// (the implicit step integrates lubrication itself, docs/physics.md section 5), or
-    /// `None` beyond the cut-off.
+    /// to the particles' own motion (the implicit step integrates that itself,
+    /// docs/physics.md section 5), or `None` beyond the cut-off. Across a sliding y image
+    /// the load includes the lubrication of the image's extra velocity.
     #[inline]
     pub fn pair_contact(
         &self,
@@ -139,7 +141,7 @@ impl ForceField {
         dt: f64,
     ) -> Option<PairOutcome> {
         let c = self.constants(p.species[i], p.species[j]);
-        let r = pbox.separation(&p.pos[i], &p.pos[j]);
+        let (r, image) = pbox.image(&p.pos[i], &p.pos[j]);
         let d2 = r.norm_squared();
         if d2 >= c.reach_squared {
             if let Some(s) = spring {
@@ -154,7 +156,17 @@ impl ForceField {
             .lubrication
             .as_ref()
             .and_then(|lub| lub.resistance(gap(d, p.radius[i], p.radius[j])));
+        let mut dv = p.vel[j] - p.vel[i];
         let mut load = PairLoad::default();
+        if image != 0 {
+            // The image's extra velocity is fixed by the positions: its lubrication load
+            // is part of this known load (the resistance is linear in the motion).
+            let shift = pbox.image_velocity(image);
+            dv += shift;
+            if let Some(r) = &resistance {
+                load = r.load(&n, &shift, &Vec3::zeros(), &Vec3::zeros());
+            }
+        }
         if let Some(contact) = &self.contact {
             if overlap > 0.0 {
                 load.force_i += contact.normal(overlap, &n);
@@ -163,7 +175,7 @@ impl ForceField {
                         s,
                         overlap,
                         &n,
-                        &(p.vel[j] - p.vel[i]),
+                        &dv,
                         &p.omega[i],
                         &p.omega[j],
                         p.radius[i],

@@ -110,6 +110,27 @@ impl FlowProfile {
         Ok(profile)
     }
 
+    /// The affine velocity `u(y) = gdot (y - L_y/2)` of homogeneous simple shear across a
+    /// Lees-Edwards box of height `l_y` (docs/physics.md section 10), on `[0, L_y)`: zero
+    /// mean over the box, and the jump of `-gdot L_y` at the y faces (a sawtooth when
+    /// wrapped) is the velocity of the sliding image. Tabulated like any profile (the
+    /// Hermite table of a linear function is exact); its expression is `gdot*(y-L/2)`.
+    /// `gdot` must be finite and positive, `l_y` too (checked by the scene).
+    pub fn simple_shear(gdot: f64, l_y: f64) -> FlowProfile {
+        let spacing = l_y / TABLE_INTERVALS as f64;
+        let nodes = (0..=TABLE_INTERVALS)
+            .map(|i| [gdot * (i as f64 * spacing - 0.5 * l_y), gdot, 0.0])
+            .collect();
+        FlowProfile {
+            expr: format!("{gdot}*(y-L/2)"),
+            l_y,
+            spacing,
+            nodes,
+            max_abs_u: 0.5 * gdot * l_y,
+            max_abs_shear_rate: gdot,
+        }
+    }
+
     /// Streaming velocity `u(y)` (units `a`/time) at any real `y`, wrapped into `[0, L_y)`.
     /// A non-finite `y` gives NaN.
     pub fn u(&self, y: f64) -> f64 {

@@ -66,7 +66,8 @@ pub struct ParticleSection {
     pub stokes: Option<f64>,
 }
 
-/// Suspending fluid and its streaming velocity.
+/// Suspending fluid and its streaming velocity: either an inhomogeneous `profile` or a
+/// homogeneous `shear_rate`.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FluidSection {
@@ -74,7 +75,12 @@ pub struct FluidSection {
     #[serde(default = "one")]
     pub eta: f64,
     /// Streaming velocity `u(y)` along x (docs/physics.md section 2), an expression in y, L, pi.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
     pub profile: String,
+    /// Homogeneous simple shear at this rate (1/time) between Lees-Edwards images
+    /// (docs/physics.md section 10), instead of a profile.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_rate: Option<f64>,
 }
 
 /// Which force terms are on, and their parameters.
@@ -258,6 +264,42 @@ fn positive(field: &str, v: f64) -> Result<(), SimError> {
     }
 }
 
+/// The streaming flow of the fluid section: the inhomogeneous `profile` (which must shear
+/// somewhere), or homogeneous simple shear at `shear_rate`; exactly one of them.
+fn streaming_flow(fluid: &FluidSection, l_y: f64) -> Result<FlowProfile, SimError> {
+    match (fluid.profile.is_empty(), fluid.shear_rate) {
+        (false, Some(_)) => Err(SimError::field(
+            "fluid.shear_rate",
+            "give either fluid.profile (inhomogeneous flow) or fluid.shear_rate (homogeneous \
+             shear), not both",
+        )),
+        (true, None) => Err(SimError::field(
+            "fluid",
+            "needs a streaming flow: fluid.profile = \"0.1*sin(2*pi*y/L)\" (inhomogeneous) \
+             or fluid.shear_rate = 0.01 (homogeneous shear)",
+        )),
+        (true, Some(gdot)) => {
+            positive("fluid.shear_rate", gdot)?;
+            Ok(FlowProfile::simple_shear(gdot, l_y))
+        }
+        (false, None) => {
+            let profile = FlowProfile::new(&fluid.profile, l_y)?;
+            if profile.max_abs_shear_rate() == 0.0 {
+                return Err(SimError::field(
+                    "fluid.profile",
+                    format!(
+                        "`{}` has no shear (max |u'| = 0): the run's clock is the strain, which \
+                         would never advance; give a profile whose shear rate is not zero \
+                         everywhere",
+                        fluid.profile
+                    ),
+                ));
+            }
+            Ok(profile)
+        }
+    }
+}
+
 impl SceneFile {
     /// A scene with box `[l_x, l_y, l_z]`, volume fraction `phi` and flow `profile`, every
     /// other field at its default: for scenes built in code (benchmarks, sweeps), which then
@@ -423,18 +465,8 @@ impl Scene {
                 ),
             ));
         }
-        let profile = FlowProfile::new(&file.fluid.profile, b.l_y)?;
+        let profile = streaming_flow(&file.fluid, b.l_y)?;
         let gdot_max = profile.max_abs_shear_rate();
-        if gdot_max == 0.0 {
-            return Err(SimError::field(
-                "fluid.profile",
-                format!(
-                    "`{}` has no shear (max |u'| = 0): the run's clock is the strain, which would \
-                     never advance; give a profile whose shear rate is not zero everywhere",
-                    file.fluid.profile
-                ),
-            ));
-        }
 
         let a_max = p.radii.iter().cloned().fold(0.0, f64::max);
         let a_min = p.radii.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -445,6 +477,17 @@ impl Scene {
             contact_range
         };
         let needed = 2.0 * (interaction_range + r.skin);
+        if file.fluid.shear_rate.is_some() && b.l_y < 1.5 * needed {
+            return Err(SimError::field(
+                "box.l_y",
+                format!(
+                    "{} is shorter than three times the interaction range plus skin ({:.3}): \
+                     a sheared box needs three neighbour cells along y",
+                    b.l_y,
+                    1.5 * needed
+                ),
+            ));
+        }
         for (name, l) in [("box.l_x", b.l_x), ("box.l_y", b.l_y), ("box.l_z", b.l_z)] {
             if l < needed {
                 return Err(SimError::field(
@@ -581,6 +624,12 @@ impl Scene {
     pub fn mean_radius(&self) -> f64 {
         let radii = self.particle_radii();
         radii.iter().sum::<f64>() / radii.len() as f64
+    }
+
+    /// The imposed rate of a homogeneous-shear scene (docs/physics.md section 10), `None`
+    /// for a profile.
+    pub fn shear_rate(&self) -> Option<f64> {
+        self.file.fluid.shear_rate
     }
 
     /// Largest shear rate of the streaming profile, the strain-rate unit of the run.

@@ -29,11 +29,14 @@ const ENERGY_CHECK_EVERY: u64 = 64;
 const MAX_SOLVER_ITERATIONS: usize = 2000;
 
 /// What a checkpoint keeps of a [`Simulation`]: particles (with their current forces),
-/// the positions the neighbour list was built from, the contact springs and the clock.
+/// the positions the neighbour list was built from (and, in a sheared box, the image offset
+/// then), the contact springs and the clock (which sets the image offset now).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SystemState {
     pub particles: Particles,
     pub list_reference: Vec<Vec3>,
+    #[serde(default)]
+    pub list_reference_offset: f64,
     pub springs: Vec<Vec3>,
     pub step: u64,
     pub time: f64,
@@ -94,8 +97,12 @@ impl Simulation {
         }
         let u_max = scene.profile.max_abs_u().max(1e-12);
         let kinetic_scale = particles.mass.iter().map(|m| 0.5 * m * u_max * u_max).sum();
+        let pbox = match scene.shear_rate() {
+            Some(gdot) => PeriodicBox::sheared(scene.box_len, gdot),
+            None => PeriodicBox::new(scene.box_len),
+        };
         Ok(Simulation {
-            pbox: PeriodicBox::new(scene.box_len),
+            pbox,
             field,
             profile: scene.profile.clone(),
             timestep,
@@ -127,6 +134,7 @@ impl Simulation {
         SystemState {
             particles: self.particles.clone(),
             list_reference: self.list.reference.clone(),
+            list_reference_offset: self.list.reference_offset,
             springs: self.springs.clone(),
             step: self.step,
             time: self.time,
@@ -140,7 +148,9 @@ impl Simulation {
     pub fn restore(scene: &Scene, state: SystemState) -> Result<Self, SimError> {
         let mut sim = Self::bare(scene, state.particles)?;
         let identity: Vec<u32> = (0..sim.particles.len() as u32).collect();
+        sim.pbox = sim.pbox.with_offset(state.list_reference_offset);
         sim.build_list(state.list_reference, &identity);
+        sim.pbox.set_time(state.time);
         sim.springs = state.springs;
         sim.step = state.step;
         sim.time = state.time;
@@ -224,18 +234,20 @@ impl Simulation {
             });
     }
 
-    /// Drift `x += v dt`, wrapped into the box.
+    /// Drift `x += v dt`, wrapped into the box as it is at the end of the step (with the
+    /// Lees-Edwards remap across the y faces of a sheared box).
     fn drift(&mut self) {
         let dt = self.timestep.dt;
+        self.pbox.set_time(self.time + dt);
         let pbox = self.pbox;
         let p = &mut self.particles;
         p.pos
             .par_iter_mut()
-            .zip(p.vel.par_iter())
+            .zip(p.vel.par_iter_mut())
             .with_min_len(1024)
             .for_each(|(x, v)| {
-                *x += v * dt;
-                pbox.wrap(x);
+                *x += *v * dt;
+                pbox.wrap(x, v);
             });
     }
 

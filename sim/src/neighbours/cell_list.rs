@@ -7,13 +7,18 @@ use crate::Vec3;
 pub struct CellList {
     dims: [usize; 3],
     cell_size: Vec3,
+    /// Box length along x and the Lees-Edwards offset of the box the list was built in.
+    len_x: f64,
+    shear_offset: f64,
     /// `start[c]..start[c+1]` indexes `particles` for cell c.
     start: Vec<usize>,
     particles: Vec<u32>,
 }
 
 impl CellList {
-    /// Buckets `positions` (inside the box) into cells no narrower than `cutoff`.
+    /// Buckets `positions` (inside the box) into cells no narrower than `cutoff`. A
+    /// sheared box needs at least three cells along y (the scene validation ensures it),
+    /// so that the rows across the y faces are distinct from the row inside.
     pub fn build(positions: &[Vec3], pbox: &PeriodicBox, cutoff: f64) -> Self {
         let mut dims = [1usize; 3];
         let mut cell_size = Vec3::zeros();
@@ -39,9 +44,12 @@ impl CellList {
             particles[fill[c]] = i as u32;
             fill[c] += 1;
         }
+        debug_assert!(!pbox.is_sheared() || dims[1] >= 3);
         Self {
             dims,
             cell_size,
+            len_x: pbox.len.x,
+            shear_offset: pbox.shear_offset(),
             start,
             particles,
         }
@@ -62,27 +70,50 @@ impl CellList {
         &self.particles
     }
 
-    /// Calls `visit(j)` once for every particle in the cells adjacent to (and including)
-    /// the cell of position `x`; each distinct cell is visited once even when the grid
-    /// has fewer than three cells along an axis.
-    pub fn for_each_near(&self, x: &Vec3, mut visit: impl FnMut(u32)) {
-        let mut axes: [([usize; 3], usize); 3] = [([0; 3], 0); 3];
-        for k in 0..3 {
-            let n = self.dims[k];
-            let c = ((x[k] / self.cell_size[k]) as usize).min(n - 1);
-            let (list, len) = &mut axes[k];
-            for off in [n - 1, 0, 1] {
-                let v = (c + off) % n;
-                if !list[..*len].contains(&v) {
-                    list[*len] = v;
-                    *len += 1;
-                }
+    /// Cells along axis k within one cell of coordinate `c` (deduplicated when the grid
+    /// has fewer than three cells along k), each with the periodic image it is reached
+    /// through: -1 across the lower face, 1 across the upper face, 0 inside.
+    fn axis_cells(&self, k: usize, c: f64) -> ([(usize, i32); 3], usize) {
+        let n = self.dims[k];
+        let home = ((c / self.cell_size[k]) as usize).min(n - 1);
+        let mut cells = [(0, 0); 3];
+        let mut len = 0;
+        for step in [-1i64, 0, 1] {
+            let raw = home as i64 + step;
+            let image = if raw < 0 {
+                -1
+            } else if raw >= n as i64 {
+                1
+            } else {
+                0
+            };
+            let v = raw.rem_euclid(n as i64) as usize;
+            if !cells[..len].iter().any(|&(u, _)| u == v) {
+                cells[len] = (v, image);
+                len += 1;
             }
         }
-        let (xs, ys, zs) = (&axes[0], &axes[1], &axes[2]);
-        for &cx in &xs.0[..xs.1] {
-            for &cy in &ys.0[..ys.1] {
-                for &cz in &zs.0[..zs.1] {
+        (cells, len)
+    }
+
+    /// Calls `visit(j)` once for every particle in the cells adjacent to (and including)
+    /// the cell of position `x`; each distinct cell is visited once even when the grid
+    /// has fewer than three cells along an axis. In a sheared box the cells across a y
+    /// face are those around `x` moved by the image offset along x (docs/physics.md
+    /// section 10): the row beyond the upper face is seen through its image above, shifted
+    /// by `+offset`, so its particles near `x_x - offset` are the neighbours.
+    pub fn for_each_near(&self, x: &Vec3, mut visit: impl FnMut(u32)) {
+        let (ys, ny) = self.axis_cells(1, x.y);
+        let (zs, nz) = self.axis_cells(2, x.z);
+        for &(cy, image) in &ys[..ny] {
+            let x_search = if image == 0 {
+                x.x
+            } else {
+                (x.x - image as f64 * self.shear_offset).rem_euclid(self.len_x)
+            };
+            let (xs, nx) = self.axis_cells(0, x_search);
+            for &(cx, _) in &xs[..nx] {
+                for &(cz, _) in &zs[..nz] {
                     let c = (cy * self.dims[2] + cz) * self.dims[0] + cx;
                     for &j in &self.particles[self.start[c]..self.start[c + 1]] {
                         visit(j);

@@ -1,5 +1,6 @@
 //! Half Verlet neighbour list with a skin (pairs i < j closer than cut-off + skin),
-//! rebuilt from a cell list when a particle has moved more than half the skin.
+//! rebuilt from a cell list when a particle has moved more than half the skin (less, in a
+//! sheared box, what the sliding images have moved).
 use crate::integrate::periodic_box::PeriodicBox;
 use crate::neighbours::cell_list::CellList;
 use crate::Vec3;
@@ -13,6 +14,8 @@ pub struct VerletList {
     /// Positions at the last build: the list is valid while no particle has moved more
     /// than `skin / 2` from here.
     pub reference: Vec<Vec3>,
+    /// Lees-Edwards offset of the box at the build (0 without shear).
+    pub reference_offset: f64,
     skin: f64,
 }
 
@@ -48,13 +51,25 @@ impl VerletList {
             start,
             neighbours,
             reference: positions.to_vec(),
+            reference_offset: pbox.shear_offset(),
             skin,
         }
     }
 
-    /// Whether some particle has moved more than half the skin since the build.
+    /// Whether the list may miss a pair. Without shear: some particle has moved more than
+    /// half the skin since the build. In a sheared box the images have also slid by
+    /// `s` (the change of the offset, modulo `L_x`), which moves a pair across a y face by
+    /// up to `s` more, and a particle that crossed a y face is measured through the
+    /// current offset, off by at most `s`; the pair distance has changed by at most
+    /// `2 d_max + 3 s`, so the list is stale once `d_max > (skin - 3 s) / 2`.
     pub fn stale(&self, positions: &[Vec3], pbox: &PeriodicBox) -> bool {
-        let limit = 0.25 * self.skin * self.skin;
+        let slide = (pbox.shear_offset() - self.reference_offset).rem_euclid(pbox.len.x);
+        let slide = slide.min(pbox.len.x - slide);
+        let allowed = 0.5 * (self.skin - 3.0 * slide);
+        if allowed < 0.0 {
+            return true;
+        }
+        let limit = allowed * allowed;
         positions
             .iter()
             .zip(&self.reference)

@@ -34,7 +34,7 @@ pub fn profile_rows(scene: &Scene, profile: &BinAverages, summary: &RunSummary) 
             out,
             "{},\"{}\",{},{},{},{},{},{},{},{}",
             f.name,
-            f.fluid.profile,
+            scene.profile.expr(),
             scene.box_len[1],
             f.particles.phi,
             f.seed,

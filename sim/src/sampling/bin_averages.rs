@@ -29,6 +29,38 @@ pub struct BinningContext {
     pub u_inf: Vec<f64>,
     /// Which definition of each observable.
     pub conventions: Conventions,
+    /// x velocity of the periodic image above relative to the box: `gdot L_y` in a
+    /// sheared (Lees-Edwards) box, 0 otherwise (docs/physics.md section 10). The bin above
+    /// the top bin is the bottom bin moving this much faster.
+    pub image_velocity: f64,
+}
+
+impl BinningContext {
+    /// A bin velocity `v` of bin `k` + `step` (`step` = -1, 0, 1), wrapped periodically
+    /// and shifted by the image velocity where it wraps across a y face.
+    fn neighbour(&self, v: &[f64], k: usize, step: isize) -> f64 {
+        let nb = self.bins.count as isize;
+        let raw = k as isize + step;
+        let image = raw.div_euclid(nb) as f64;
+        v[raw.rem_euclid(nb) as usize] + image * self.image_velocity
+    }
+
+    /// `du/dy` of the bin velocities `u` under `convention`. In a sheared box `u` jumps by
+    /// the image velocity across the y faces: the derivative is taken of `u` minus the
+    /// ramp `image_velocity y / L_y`, which is periodic, and the ramp's slope added back.
+    fn velocity_gradient(&self, u: &[f64], convention: GdotConvention) -> Vec<f64> {
+        let slope = self.image_velocity / (self.bins.width * self.bins.count as f64);
+        let periodic: Vec<f64> = u
+            .iter()
+            .enumerate()
+            .map(|(k, u)| u - slope * self.bins.centre(k))
+            .collect();
+        let derivative = match convention {
+            GdotConvention::Spectral => periodic_derivative::spectral(&periodic, self.bins.width),
+            GdotConvention::Centred => periodic_derivative::centred(&periodic, self.bins.width),
+        };
+        derivative.into_iter().map(|g| g + slope).collect()
+    }
 }
 
 /// Per-bin observables. Stresses use the positive-in-compression convention
@@ -161,8 +193,11 @@ pub fn observables(
             ThetaConvention::LocalWindow => per(LOCAL_DU, k) / count,
             ThetaConvention::InterpolatedRms => {
                 // Sum of (v - u*)^2 over the bin from the interpolation sums.
-                let (below, here, above) =
-                    (u_star[(k + nb - 1) % nb], u_star[k], u_star[(k + 1) % nb]);
+                let (below, here, above) = (
+                    ctx.neighbour(u_star, k, -1),
+                    u_star[k],
+                    ctx.neighbour(u_star, k, 1),
+                );
                 let half = |base: usize, left: f64, right: f64| {
                     -2.0 * (left * per(base, k) + right * per(base + 1, k))
                         + left * left * per(base + 2, k)
@@ -175,10 +210,7 @@ pub fn observables(
             }
         });
     }
-    o.gdot = match c.gdot {
-        GdotConvention::Spectral => periodic_derivative::spectral(&o.u, ctx.bins.width),
-        GdotConvention::Centred => periodic_derivative::centred(&o.u, ctx.bins.width),
-    };
+    o.gdot = ctx.velocity_gradient(&o.u, c.gdot);
     if c.stress == StressConvention::PairsDragSolvent {
         // The solvent's Cauchy shear stress eta gdot, with the compression-positive sign.
         for (sigma, g) in o.sigma_xy.iter_mut().zip(&o.gdot) {

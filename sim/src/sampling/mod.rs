@@ -1,5 +1,5 @@
 //! From particles to local observables: bins along y, per-snapshot sums, time averages with
-//! standard errors, and the steady-state test.
+//! standard errors, the box totals of homogeneous shear, and the steady-state test.
 
 pub mod bin_averages;
 pub mod binning;
@@ -9,6 +9,7 @@ pub mod conventions;
 pub mod local_velocity;
 pub mod periodic_derivative;
 pub mod run_length;
+pub mod shear_rheology;
 pub mod snapshot;
 pub mod steady_state;
 pub mod stress_checks;

@@ -1,0 +1,79 @@
+//! The local relative viscosity `eta_r = mu / J = |sigma_xy| / (eta |gdot|)` of the sheared
+//! bins of an inhomogeneous-flow dataset (docs/physics.md sections 6 and 10), gathered in
+//! bands of `phi_loc`, for comparison with homogeneous shear at the same volume fraction.
+use anyhow::Context;
+use sim::output::dataset_columns as col;
+use std::collections::BTreeMap;
+use std::path::Path;
+use surrogate::dataset::Dataset;
+
+/// A bin counts as sheared when its `|gdot|` is at least this fraction of the largest
+/// `|gdot|` of its scene: near a velocity extremum `J -> 0` and `mu / J` is noise over noise.
+pub const SHEARED_FRACTION: f64 = 0.5;
+
+/// Width of a `phi_loc` band.
+pub const BAND_WIDTH: f64 = 0.02;
+
+/// The sheared bins whose `phi_loc` lies within `BAND_WIDTH / 2` of `phi`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LocalBand {
+    /// Band centre.
+    pub phi: f64,
+    /// `(phi_loc, mu / J)` of each bin in the band.
+    pub bins: Vec<(f64, f64)>,
+}
+
+impl LocalBand {
+    /// Median over the band of `mu / J`.
+    pub fn eta_r(&self) -> f64 {
+        median(self.bins.iter().map(|b| b.1).collect())
+    }
+
+    /// Median over the band of `(mu / J) / reference(phi_loc)`, each bin against the
+    /// reference at its own `phi_loc`.
+    pub fn ratio(&self, reference: impl Fn(f64) -> f64) -> f64 {
+        median(self.bins.iter().map(|&(p, e)| e / reference(p)).collect())
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// The bands centred on `centres` of the sheared bins of the dataset at `path`; bands
+/// without a bin are left out.
+pub fn bands(path: &Path, centres: &[f64]) -> anyhow::Result<Vec<LocalBand>> {
+    let data = Dataset::read_csv(path).with_context(|| format!("reading {}", path.display()))?;
+    let scene = data.group_keys()?;
+    let (gdot, phi_loc) = (data.column(col::GDOT)?, data.column(col::PHI_LOC)?);
+    let (j, mu) = (data.column(col::J)?, data.column(col::MU)?);
+    let mut largest: BTreeMap<&str, f64> = BTreeMap::new();
+    for (s, g) in scene.iter().zip(gdot) {
+        let m = largest.entry(s.as_str()).or_insert(0.0);
+        *m = m.max(g.abs());
+    }
+    let sheared: Vec<usize> = (0..data.n_rows())
+        .filter(|&r| {
+            gdot[r].abs() >= SHEARED_FRACTION * largest[scene[r].as_str()]
+                && j[r] > 0.0
+                && mu[r] > 0.0
+        })
+        .collect();
+    Ok(centres
+        .iter()
+        .filter_map(|&phi| {
+            let bins: Vec<(f64, f64)> = sheared
+                .iter()
+                .filter(|&&r| (phi_loc[r] - phi).abs() <= 0.5 * BAND_WIDTH)
+                .map(|&r| (phi_loc[r], mu[r] / j[r]))
+                .collect();
+            (!bins.is_empty()).then_some(LocalBand { phi, bins })
+        })
+        .collect())
+}

@@ -1,0 +1,114 @@
+//! Measured points with error bars beside model curves, on a logarithmic y axis and a
+//! linear or logarithmic x axis, as SVG (the flow curves of homogeneous shear against the
+//! jamming law).
+use crate::plots::chart_frame::{canvas, chart, legend, log_bounds};
+use crate::plots::loglog::Line;
+use crate::plots::profile_panels::COLOURS;
+use anyhow::Context;
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Named measured points `(x, y, standard error of y)`, drawn as markers with error bars.
+pub struct Points {
+    pub name: String,
+    pub points: Vec<(f64, f64, f64)>,
+}
+
+/// Draws `data` and the model `curves` (dashed lines) to the SVG file `path`, y logarithmic, x logarithmic when
+/// `log_x` (a narrow range such as `phi` in [0.45, 0.6] reads better linear); non-positive
+/// or non-finite values are left out.
+pub fn draw(
+    path: &Path,
+    title: &str,
+    axes: (&str, &str),
+    log_x: bool,
+    data: &[Points],
+    curves: &[Line],
+) -> anyhow::Result<()> {
+    let ((x0, x1), y) = ranges(data, curves, log_x);
+    let result = if log_x {
+        draw_inner(path, title, axes, (x0..x1).log_scale(), y, data, curves)
+    } else {
+        draw_inner(path, title, axes, x0..x1, y, data, curves)
+    };
+    result.with_context(|| format!("drawing {}", path.display()))
+}
+
+fn usable(x: f64, y: f64) -> bool {
+    x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite()
+}
+
+/// The x and y ranges of every drawable value, padded.
+fn ranges(data: &[Points], curves: &[Line], log_x: bool) -> ((f64, f64), (f64, f64)) {
+    let all: Vec<(f64, f64)> = data
+        .iter()
+        .flat_map(|d| d.points.iter().map(|&(x, y, _)| (x, y)))
+        .chain(curves.iter().flat_map(|c| c.points.iter().copied()))
+        .filter(|&(x, y)| usable(x, y))
+        .collect();
+    let range = |f: fn(&(f64, f64)) -> f64, pad: f64| log_bounds(all.iter().map(f), pad);
+    let x = if log_x {
+        range(|p| p.0, 1.1)
+    } else {
+        let (lo, hi) = range(|p| p.0, 1.0);
+        let pad = 0.05 * (hi - lo);
+        (lo - pad, hi + pad)
+    };
+    (x, range(|p| p.1, 1.3))
+}
+
+fn draw_inner<X>(
+    path: &Path,
+    title: &str,
+    axes: (&str, &str),
+    x_axis: X,
+    (y0, y1): (f64, f64),
+    data: &[Points],
+    curves: &[Line],
+) -> anyhow::Result<()>
+where
+    X: AsRangedCoord<Value = f64>,
+    X::CoordDescType: ValueFormatter<f64>,
+{
+    let root = canvas(path)?;
+    let mut chart = chart(&root, title, axes, x_axis, (y0..y1).log_scale())?;
+    for (i, d) in data.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        let pts: Vec<(f64, f64, f64)> = d
+            .points
+            .iter()
+            .copied()
+            .filter(|&(x, y, _)| usable(x, y))
+            .collect();
+        chart.draw_series(pts.iter().map(|&(x, y, se)| {
+            let lo = (y - se).max(y0);
+            ErrorBar::new_vertical(x, lo, y, y + se, colour.stroke_width(1), 6)
+        }))?;
+        chart
+            .draw_series(
+                pts.iter()
+                    .map(|&(x, y, _)| Circle::new((x, y), 4, colour.filled())),
+            )?
+            .label(d.name.as_str())
+            .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
+    }
+    for (i, c) in curves.iter().enumerate() {
+        let colour = COLOURS[(data.len() + i) % COLOURS.len()];
+        let pts: Vec<(f64, f64)> = c
+            .points
+            .iter()
+            .copied()
+            .filter(|&(x, y)| usable(x, y))
+            .collect();
+        chart
+            .draw_series(DashedLineSeries::new(pts, 8, 4, colour.stroke_width(2)))?
+            .label(c.name.as_str())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+    }
+    legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+    root.present()?;
+    Ok(())
+}

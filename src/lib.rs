@@ -5,6 +5,7 @@
 
 pub mod commands;
 mod dataset_file;
+mod ensemble_table;
 mod file_lock;
 mod output_guard;
 mod plots;

@@ -30,6 +30,8 @@ enum Command {
     Report(commands::report::Args),
     /// Compare two binned profiles: squared z-scores and relative differences per observable.
     Compare(commands::compare::Args),
+    /// Draw the datasets' rows in the (J, phi_loc) and (J, Theta) planes; tabulate column ranges.
+    Coverage(commands::coverage::Args),
     /// Measure particle-steps per second of the force + integration loop.
     Bench(commands::bench::Args),
     /// Train the surrogate mappings on a dataset.
@@ -57,6 +59,7 @@ fn main() -> anyhow::Result<()> {
         Command::Plot(args) => commands::plot::run(args),
         Command::Report(args) => commands::report::run(args),
         Command::Compare(args) => commands::compare::run(args),
+        Command::Coverage(args) => commands::coverage::run(args),
         Command::Bench(args) => commands::bench::run(args),
         Command::Train(args) => commands::train::run(args),
         Command::Predict(args) => commands::predict::run(args),

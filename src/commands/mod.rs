@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod bench_predict;
 pub mod compare;
+pub mod coverage;
 pub mod generate;
 pub mod merge;
 pub mod plot;

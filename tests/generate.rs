@@ -666,54 +666,56 @@ fn replicas_run_apart_and_the_ensemble_table_averages_them() {
         ensemble
     );
 
-    // Training and validation take the ensemble table, and say which table they read.
-    let models = dir.join("models");
-    let ensemble_path = dir.join("reps.ensemble.csv");
-    let o = suspflow(&[
+    // Training and validation take either table, and say which one they read.
+    let stdout_of = |args: &[&str]| {
+        let o = suspflow(args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let [ensemble_path, models, plots, run_models] =
+        ["reps.ensemble.csv", "models", "plots", "run_models"].map(|f| dir.join(f));
+    let [ensemble_path, models, plots, run_models] =
+        [&ensemble_path, &models, &plots, &run_models].map(|p| p.to_str().unwrap());
+    let stdout = stdout_of(&[
         "train",
         "--data",
-        ensemble_path.to_str().unwrap(),
+        ensemble_path,
         "--out",
-        models.to_str().unwrap(),
+        models,
         "--no-tune",
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
     assert!(
         stdout.contains("ensemble table: 2 scenes, means over 1-3 replicas"),
         "{stdout}"
     );
-    let o = suspflow(&[
+    let stdout = stdout_of(&[
         "validate",
         "--models",
-        models.to_str().unwrap(),
+        models,
         "--data",
-        ensemble_path.to_str().unwrap(),
+        ensemble_path,
         "--plots",
-        dir.join("plots").to_str().unwrap(),
+        plots,
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
     assert!(
         stdout.contains("ensemble table") && stdout.contains("target noise"),
         "{stdout}"
     );
     // The per-run table trains too, its replicas grouped as one scene.
-    let o = suspflow(&[
+    let out = out.to_str().unwrap();
+    let stdout = stdout_of(&[
         "train",
         "--data",
-        out.to_str().unwrap(),
+        out,
         "--out",
-        dir.join("models_runs").to_str().unwrap(),
+        run_models,
         "--no-tune",
         "--mapping",
         "mu",
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        String::from_utf8_lossy(&o.stdout).contains("per-run table: 4 runs of 2 scenes"),
-        "{}",
-        String::from_utf8_lossy(&o.stdout)
+        stdout.contains("per-run table: 4 runs of 2 scenes"),
+        "{stdout}"
     );
 }
 

@@ -10,7 +10,8 @@
 //! re-running the same command skips finished runs and resumes the others from their
 //! checkpoints. After each run the dataset is rewritten atomically with the finished runs in
 //! grid order, so it is always complete and the same as an uninterrupted run's; the ensemble
-//! table holds the scenes none of whose runs is still to do. `--shard` splits the runs (a
+//! table holds the scenes none of whose runs is still to do (a failed replica is left out:
+//! the `replicas` column says how many were averaged). `--shard` splits the runs (a
 //! scene's replicas may land in different parts): the parts write no ensemble table, `merge`
 //! writes it from the combined parts.
 //!

@@ -3,6 +3,7 @@
 //! keeps its colour in every panel), with one legend per panel.
 use crate::plots::profile_panels::COLOURS;
 use anyhow::Context;
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -72,39 +73,34 @@ fn draw(path: &Path, title: &str, panels: &[ScatterPanel]) -> anyhow::Result<()>
             .y_label_area_size(64);
         // The two axis kinds are different types: one branch each.
         if panel.log_y {
-            let mut chart =
-                builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
-            chart
-                .configure_mesh()
-                .light_line_style(TRANSPARENT)
-                .x_desc(&panel.x_label)
-                .y_desc(&panel.y_label)
-                .draw()?;
-            points_and_legend(&mut chart, panel)?;
+            let chart = builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+            fill(chart, panel)?;
         } else {
-            let mut chart = builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?;
-            chart
-                .configure_mesh()
-                .light_line_style(TRANSPARENT)
-                .x_desc(&panel.x_label)
-                .y_desc(&panel.y_label)
-                .draw()?;
-            points_and_legend(&mut chart, panel)?;
+            fill(
+                builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?,
+                panel,
+            )?;
         }
     }
     root.present()?;
     Ok(())
 }
 
-/// Draws each set of `panel` as small circles and the legend.
-fn points_and_legend<'a, X, Y>(
-    chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<X, Y>>,
+/// Draws the axes of `chart`, each set of `panel` as small circles, and the legend.
+fn fill<'a, X, Y>(
+    mut chart: ChartContext<'a, SVGBackend<'a>, Cartesian2d<X, Y>>,
     panel: &ScatterPanel,
 ) -> anyhow::Result<()>
 where
-    X: Ranged<ValueType = f64>,
-    Y: Ranged<ValueType = f64>,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
+    chart
+        .configure_mesh()
+        .light_line_style(TRANSPARENT)
+        .x_desc(&panel.x_label)
+        .y_desc(&panel.y_label)
+        .draw()?;
     for (i, set) in panel.sets.iter().enumerate() {
         let colour = COLOURS[(i + 1) % COLOURS.len()];
         chart

@@ -666,6 +666,33 @@ fn replicas_run_apart_and_the_ensemble_table_averages_them() {
         ensemble
     );
 
+    // plot draws each replica as its own series; compare refuses several replicas in a file.
+    let o = suspflow(&[
+        "plot",
+        out.to_str().unwrap(),
+        "--out",
+        dir.join("plots").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(dir.join("plots/reps_000.svg")).unwrap();
+    assert!(
+        svg.contains("seed 3") && svg.contains("seed 5"),
+        "no series per seed"
+    );
+    let lines: Vec<&str> = data.lines().collect();
+    let scene_0 = dir.join("reps_000_runs.csv");
+    std::fs::write(&scene_0, format!("{}\n", lines[..19].join("\n"))).unwrap();
+    let o = suspflow(&[
+        "compare",
+        scene_0.to_str().unwrap(),
+        scene_0.to_str().unwrap(),
+    ]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("holds 3 runs (seeds 3, 4, ...)"),
+        "{}",
+        stderr(&o)
+    );
+
     // Training and validation take either table, and say which one they read.
     let stdout_of = |args: &[&str]| {
         let o = suspflow(args);

@@ -1,5 +1,6 @@
 //! Grid expansion: the Cartesian product of [vary] times the [[cases]], in the documented
-//! order, with every scene validated and named so that ids sort in grid order.
+//! order, with every scene validated and named so that ids sort in grid order; replicas
+//! from seed lists or a `replicas` count, and clear refusals of bad ones.
 use sim::input::grid::Grid;
 
 const BASE: &str = r#"

@@ -3,6 +3,7 @@
 //!
 //! ```toml
 //! name = "train"                 # prefix of the scene ids
+//! replicas = 3                   # optional: runs per scene, seeds derived (see below)
 //! [scene]                        # any scene-file field, fixed for every scene
 //! box = { l_x = 17.0, l_z = 17.0 }
 //! fluid = { profile = "0.1*sin(2*pi*y/L)" }

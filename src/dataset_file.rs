@@ -1,20 +1,25 @@
-//! Dataset CSV files (docs/physics.md section 8): one header line, then one line per bin per scene.
+//! Dataset CSV files (docs/physics.md section 8): one header line, then one line per bin per
+//! run (a run is one replica of a scene: its `scene_id` and `seed`).
 //!
 //! Lines are checked as they are read (field count, numbers where numbers belong, one
-//! scene's lines together) and copied byte for byte, so that assembling per-scene parts,
+//! run's lines together) and copied byte for byte, so that assembling per-run parts,
 //! or merging shards, gives the same bytes as one whole run. Scene ids sort in grid order
-//! (`<grid>_<zero-padded index>`), which fixes the order of the scenes in every output.
+//! (`<grid>_<zero-padded index>`) and a scene's replicas by seed, which fixes the order of
+//! the runs in every output.
 use anyhow::{bail, Context};
 use sim::output::dataset_columns;
 use std::collections::BTreeMap;
 use std::path::Path;
 use surrogate::excerpt;
 
-/// The lines of one dataset file, grouped by scene.
+/// A run of a dataset: scene id and seed (`None` in a table without a `seed` column).
+pub type RunKey = (String, Option<u64>);
+
+/// The lines of one dataset file, grouped by run.
 pub struct DatasetFile {
     pub header: String,
-    /// Scene id -> that scene's lines (without end-of-line), in file order.
-    pub scenes: BTreeMap<String, Vec<String>>,
+    /// Run -> that run's lines (without end-of-line), in file order.
+    pub runs: BTreeMap<RunKey, Vec<String>>,
 }
 
 impl DatasetFile {
@@ -27,8 +32,8 @@ impl DatasetFile {
     }
 
     /// Parses dataset text; see [`DatasetFile::read`]. A leading UTF-8 byte-order mark is
-    /// dropped; scene ids must follow the safe-name rule (`sim::input::scene_name`), standard
-    /// errors (`*_se`) must not be negative.
+    /// dropped; scene ids must follow the safe-name rule (`sim::input::scene_name`), seeds
+    /// must be non-negative integers, standard errors (`*_se`) must not be negative.
     pub fn parse(text: &str) -> anyhow::Result<DatasetFile> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         if text.is_empty() {
@@ -52,12 +57,13 @@ impl DatasetFile {
                     excerpt(&header)
                 )
             })?;
+        let seed_column = names.iter().position(|n| n == dataset_columns::SEED);
         let numeric: Vec<bool> = names
             .iter()
             .map(|n| !dataset_columns::TEXT.contains(&n.as_str()))
             .collect();
-        let mut scenes: BTreeMap<String, Vec<String>> = BTreeMap::new();
-        let mut last_id: Option<String> = None;
+        let mut runs: BTreeMap<RunKey, Vec<String>> = BTreeMap::new();
+        let mut last: Option<RunKey> = None;
         for (k, line) in lines.enumerate() {
             let number = k + 2;
             let cells = fields(line).with_context(|| format!("line {number}"))?;
@@ -80,16 +86,31 @@ impl DatasetFile {
             let id = cells[id_column].clone();
             sim::input::scene_name::check(&id)
                 .map_err(|m| anyhow::anyhow!("line {number}, column `scene_id`: {m}"))?;
-            if last_id.as_ref() != Some(&id) && scenes.contains_key(&id) {
-                bail!("line {number}: scene `{id}` appears again after other scenes (duplicated or interleaved rows)");
+            let seed = seed_column
+                .map(|c| {
+                    cells[c].parse::<u64>().map_err(|_| {
+                        anyhow::anyhow!(
+                            "line {number}, column `seed`: `{}` is not a non-negative integer",
+                            excerpt(&cells[c])
+                        )
+                    })
+                })
+                .transpose()?;
+            let key = (id, seed);
+            if last.as_ref() != Some(&key) && runs.contains_key(&key) {
+                bail!(
+                    "line {number}: scene `{}`{} appears again after other runs (duplicated or interleaved rows)",
+                    key.0,
+                    seed_text(key.1)
+                );
             }
-            scenes.entry(id.clone()).or_default().push(line.to_string());
-            last_id = Some(id);
+            runs.entry(key.clone()).or_default().push(line.to_string());
+            last = Some(key);
         }
-        Ok(DatasetFile { header, scenes })
+        Ok(DatasetFile { header, runs })
     }
 
-    /// Adds the scenes of `other`, which must have the same header and no scene in common.
+    /// Adds the runs of `other`, which must have the same header and no run in common.
     pub fn absorb(&mut self, other: DatasetFile, other_name: &str) -> anyhow::Result<()> {
         if other.header != self.header {
             bail!(
@@ -98,21 +119,23 @@ impl DatasetFile {
                 self.header
             );
         }
-        for (id, lines) in other.scenes {
-            if self.scenes.contains_key(&id) {
+        for (key, lines) in other.runs {
+            if self.runs.contains_key(&key) {
                 bail!(
-                    "{other_name}: scene `{id}` is also in an earlier file (overlapping shards?)"
+                    "{other_name}: scene `{}`{} is also in an earlier file (overlapping shards?)",
+                    key.0,
+                    seed_text(key.1)
                 );
             }
-            self.scenes.insert(id, lines);
+            self.runs.insert(key, lines);
         }
         Ok(())
     }
 
-    /// The file's text: header, then the scenes in id order.
+    /// The file's text: header, then the runs in (scene id, seed) order.
     pub fn to_text(&self) -> String {
         let mut out = String::with_capacity(
-            self.scenes
+            self.runs
                 .values()
                 .flatten()
                 .map(|l| l.len() + 1)
@@ -122,7 +145,7 @@ impl DatasetFile {
         );
         out.push_str(&self.header);
         out.push('\n');
-        for line in self.scenes.values().flatten() {
+        for line in self.runs.values().flatten() {
             out.push_str(line);
             out.push('\n');
         }
@@ -131,8 +154,25 @@ impl DatasetFile {
 
     /// Number of data lines.
     pub fn rows(&self) -> usize {
-        self.scenes.values().map(Vec::len).sum()
+        self.runs.values().map(Vec::len).sum()
     }
+
+    /// Number of distinct scenes.
+    pub fn scene_count(&self) -> usize {
+        let mut ids: Vec<&str> = self.runs.keys().map(|(id, _)| id.as_str()).collect();
+        ids.dedup();
+        ids.len()
+    }
+
+    /// Whether some scene has more than one run (replicas).
+    pub fn has_replicas(&self) -> bool {
+        self.scene_count() < self.runs.len()
+    }
+}
+
+/// ` (seed S)` for messages, or nothing without a seed column.
+fn seed_text(seed: Option<u64>) -> String {
+    seed.map_or(String::new(), |s| format!(" (seed {s})"))
 }
 
 /// The fields of one CSV line (quotes removed).
@@ -210,6 +250,39 @@ mod tests {
                     .unwrap_or_else(|| panic!("accepted {text:?}"))
             );
             assert!(err.contains(expected), "{err} should mention {expected}");
+        }
+    }
+
+    #[test]
+    fn replicas_are_runs_ordered_by_seed() {
+        const SEEDED: &str = "scene_id,seed,y";
+        let mut a = DatasetFile::parse(&format!("{SEEDED}\ng_0,10,1\ng_0,10,3\n")).unwrap();
+        let b = DatasetFile::parse(&format!("{SEEDED}\ng_1,1,1\ng_0,2,1\ng_0,2,3\n")).unwrap();
+        a.absorb(b, "b").unwrap();
+        assert_eq!(
+            a.to_text(),
+            format!("{SEEDED}\ng_0,2,1\ng_0,2,3\ng_0,10,1\ng_0,10,3\ng_1,1,1\n")
+        );
+        assert_eq!((a.runs.len(), a.scene_count()), (3, 2));
+        assert!(a.has_replicas());
+        let again = DatasetFile::parse(&format!("{SEEDED}\ng_0,2,5\n")).unwrap();
+        let message = format!("{:#}", a.absorb(again, "c").unwrap_err());
+        assert!(
+            message.contains("scene `g_0` (seed 2) is also in an earlier file"),
+            "{message}"
+        );
+        for (text, expected) in [
+            (
+                format!("{SEEDED}\ng_0,1.5,1\n"),
+                "line 2, column `seed`: `1.5` is not a non-negative integer",
+            ),
+            (
+                format!("{SEEDED}\ng_0,1,1\ng_0,2,1\ng_0,1,3\n"),
+                "line 4: scene `g_0` (seed 1) appears again",
+            ),
+        ] {
+            let message = format!("{:#}", DatasetFile::parse(&text).err().unwrap());
+            assert!(message.contains(expected), "{message}");
         }
     }
 

@@ -5,6 +5,7 @@
 
 pub mod commands;
 mod dataset_file;
+mod ensemble_table;
 mod file_lock;
 mod jamming_law;
 mod local_viscosity;

@@ -35,6 +35,8 @@ enum Command {
     Compare(commands::compare::Args),
     /// The effect of each observable convention on finished runs, from their snapshot sums.
     Conventions(commands::conventions::Args),
+    /// Draw the datasets' rows in the (J, phi_loc) and (J, Theta) planes; tabulate column ranges.
+    Coverage(commands::coverage::Args),
     /// Measure particle-steps per second of the force + integration loop.
     Bench(commands::bench::Args),
     /// Train the surrogate mappings on a dataset.
@@ -64,6 +66,7 @@ fn main() -> anyhow::Result<()> {
         Command::Report(args) => commands::report::run(args),
         Command::Compare(args) => commands::compare::run(args),
         Command::Conventions(args) => commands::conventions::run(args),
+        Command::Coverage(args) => commands::coverage::run(args),
         Command::Bench(args) => commands::bench::run(args),
         Command::Train(args) => commands::train::run(args),
         Command::Predict(args) => commands::predict::run(args),

@@ -1,7 +1,8 @@
-//! The work directory of `suspflow generate`: one folder per scene holding the scene it was
-//! made for (`scene.toml`), its checkpoint while it runs, and then either its results
+//! The work directory of `suspflow generate`: one folder per run (one replica of a scene,
+//! named `<scene id>_seed<seed>`) holding the scene it was made for (`scene.toml`, with the
+//! replica's seed), its checkpoint while it runs, and then either its results
 //! (`profile.csv`, `summary.json`, as `simulate` writes them) or `failed.txt` with the reason.
-//! The files say where each scene is, so a re-run continues where the last one stopped.
+//! The files say where each run is, so a re-run continues where the last one stopped.
 use anyhow::{bail, Context};
 use sim::input::scene::SceneFile;
 use std::path::{Path, PathBuf};
@@ -57,7 +58,7 @@ impl SceneSummary {
     }
 }
 
-/// Where a scene is.
+/// Where a run is.
 pub enum SceneStatus {
     /// Finished: its summary.json.
     Done(SceneSummary),
@@ -67,19 +68,21 @@ pub enum SceneStatus {
     Pending,
 }
 
-/// The folder of one scene.
+/// The folder of one run.
 pub struct SceneWork {
     pub dir: PathBuf,
 }
 
 impl SceneWork {
-    /// The folder of scene `id` under `root` (not created).
-    pub fn new(root: &Path, id: &str) -> SceneWork {
-        SceneWork { dir: root.join(id) }
+    /// The folder of the run named `label` (`GridRun::label`) under `root` (not created).
+    pub fn new(root: &Path, label: &str) -> SceneWork {
+        SceneWork {
+            dir: root.join(label),
+        }
     }
 
     /// Creates the folder for `file`, or checks that an existing one was made for the same
-    /// scene (a changed grid must not mix old and new results).
+    /// scene and seed (a changed grid must not mix old and new results).
     pub fn prepare(&self, file: &SceneFile) -> anyhow::Result<()> {
         std::fs::create_dir_all(&self.dir)
             .with_context(|| format!("creating {}", self.dir.display()))?;

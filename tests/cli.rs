@@ -494,4 +494,50 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
         "{stderr}"
     );
     std::fs::remove_dir_all(&dir).ok();
+fn coverage_draws_both_planes_and_tabulates_the_ranges_of_the_data() {
+    let dir = temp_dir("coverage");
+    std::fs::create_dir_all(&dir).unwrap();
+    let train = dir.join("a.csv");
+    let validate = dir.join("b.csv");
+    std::fs::write(
+        &train,
+        "scene_id,profile,J,phi_loc,Theta,mu\ns,\"sin\",0.01,0.6,0.02,0.5\ns,\"sin\",0.2,0.45,0.1,\ns,\"sin\",0.05,0.52,0.04,1.5\n",
+    )
+    .unwrap();
+    std::fs::write(
+        &validate,
+        "scene_id,profile,J,phi_loc,Theta\nv,\"cos\",0.003,0.62,0.011\n",
+    )
+    .unwrap();
+    let plots = dir.join("plots");
+    let out = suspflow(&[
+        "coverage",
+        train.to_str().unwrap(),
+        validate.to_str().unwrap(),
+        "--out",
+        plots.to_str().unwrap(),
+    ]);
+    assert_ok(&out);
+    let svg = std::fs::read_to_string(plots.join("coverage.svg")).unwrap();
+    for label in ["a.csv (3 rows)", "b.csv (1 rows)", "phi_loc", "Theta"] {
+        assert!(svg.contains(label), "coverage.svg lacks {label}");
+    }
+    // Four points per panel, one circle each, plus the legend's two markers per panel.
+    assert_eq!(svg.matches("<circle").count(), 2 * (4 + 2), "{svg}");
+    let table = std::fs::read_to_string(plots.join("coverage.md")).unwrap();
+    assert!(String::from_utf8_lossy(&out.stdout).contains(&table));
+    let row = |column: &str| {
+        table
+            .lines()
+            .find(|l| l.starts_with(&format!("| `{column}` |")))
+            .unwrap_or_else(|| panic!("no row {column}:\n{table}"))
+            .to_string()
+    };
+    assert!(table.starts_with("| column | a.csv | b.csv |\n"), "{table}");
+    assert_eq!(row("J"), "| `J` | [0.01, 0.2] | [0.003, 0.003] |");
+    assert_eq!(row("phi_loc"), "| `phi_loc` | [0.45, 0.6] | [0.62, 0.62] |");
+    assert_eq!(row("Theta"), "| `Theta` | [0.02, 0.1] | [0.011, 0.011] |");
+    // An empty cell is counted, a column one file lacks is `-`, text columns are left out.
+    assert_eq!(row("mu"), "| `mu` | [0.5, 1.5], 1 empty | - |");
+    assert!(!table.contains("`profile`") && !table.contains("`scene_id`"));
 }

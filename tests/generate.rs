@@ -1,6 +1,7 @@
 //! End-to-end tests of `suspflow generate` and `suspflow merge` on grids of tiny scenes:
 //! resume after a kill or Ctrl-C gives the same dataset, a failing scene is isolated, shards
-//! merged equal the whole grid, and corrupt inputs to merge are refused naming the line.
+//! merged equal the whole grid, and corrupt inputs to merge are refused naming the line;
+//! replicas run apart and their ensemble table holds the means and between-replica errors.
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;
@@ -531,4 +532,233 @@ fn compare_refuses_several_scenes_bad_cells_and_negative_errors() {
         "{}",
         stderr(&o)
     );
+}
+
+/// The cells of column `name` in CSV `text`.
+fn csv_column(text: &str, name: &str) -> Vec<String> {
+    let mut reader = csv::Reader::from_reader(text.as_bytes());
+    let k = reader
+        .headers()
+        .unwrap()
+        .iter()
+        .position(|c| c == name)
+        .unwrap_or_else(|| panic!("no column {name}"));
+    reader
+        .records()
+        .map(|r| r.unwrap()[k].to_string())
+        .collect()
+}
+
+fn numbers(text: &str, name: &str) -> Vec<f64> {
+    csv_column(text, name)
+        .iter()
+        .map(|c| c.parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn replicas_run_apart_and_the_ensemble_table_averages_them() {
+    let dir = temp_dir("replicas");
+    let out = dir.join("reps.csv");
+    let o = generate("tests/grids/replicas.toml", &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        stdout.contains("reps.ensemble.csv") && stdout.contains("phi_loc"),
+        "{stdout}"
+    );
+    let data = std::fs::read_to_string(&out).unwrap();
+    // One row per bin per run: scene reps_000 with seeds 3, 4, 5, then reps_001 (seed 1).
+    let ids = csv_column(&data, "scene_id");
+    let seeds = csv_column(&data, "seed");
+    assert_eq!(ids.len(), 4 * 6);
+    let runs: Vec<(String, String)> = (0..4)
+        .map(|k| (ids[6 * k].clone(), seeds[6 * k].clone()))
+        .collect();
+    let expected = [
+        ("reps_000", "3"),
+        ("reps_000", "4"),
+        ("reps_000", "5"),
+        ("reps_001", "1"),
+    ];
+    assert_eq!(runs, expected.map(|(a, b)| (a.to_string(), b.to_string())));
+    assert!(dir
+        .join("reps.csv.work/reps_000_seed4/profile.csv")
+        .exists());
+
+    // The ensemble: the mean and between-replica standard error of each bin of reps_000,
+    // recomputed here from the dataset; reps_001 keeps its own batch-means error.
+    let ensemble = std::fs::read_to_string(dir.join("reps.ensemble.csv")).unwrap();
+    assert_eq!(
+        csv_column(&ensemble, "replicas"),
+        [vec!["3"; 6], vec!["1"; 6]].concat()
+    );
+    assert_eq!(
+        csv_column(&ensemble, "se_from"),
+        [vec!["replicas"; 6], vec!["batch_means"; 6]].concat()
+    );
+    for name in ["phi_loc", "mu", "Theta"] {
+        let (x, se) = (numbers(&data, name), numbers(&data, &format!("{name}_se")));
+        let (mean, mean_se) = (
+            numbers(&ensemble, name),
+            numbers(&ensemble, &format!("{name}_se")),
+        );
+        for bin in 0..6 {
+            let v: Vec<f64> = (0..3).map(|k| x[6 * k + bin]).collect();
+            let m = (v[0] + v[1] + v[2]) / 3.0;
+            let s2 = ((v[0] - m).powi(2) + (v[1] - m).powi(2) + (v[2] - m).powi(2)) / 2.0;
+            assert!((mean[bin] - m).abs() <= 1e-12 * m.abs(), "{name} bin {bin}");
+            assert!(
+                (mean_se[bin] - (s2 / 3.0).sqrt()).abs() <= 1e-9 * mean_se[bin],
+                "{name} bin {bin}: {} vs {}",
+                mean_se[bin],
+                (s2 / 3.0).sqrt()
+            );
+            assert_eq!(
+                (mean[6 + bin], mean_se[6 + bin]),
+                (x[18 + bin], se[18 + bin])
+            );
+        }
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("reps.ensemble.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["runs"], 4);
+    assert_eq!(summary["observables"].as_array().unwrap().len(), 11);
+
+    // A re-run finds every run done and rewrites the same bytes.
+    let again = generate("tests/grids/replicas.toml", &out, &[]);
+    assert!(
+        stderr(&again).contains("4 runs of 2 scenes, 4 already finished"),
+        "{}",
+        stderr(&again)
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("reps.ensemble.csv")).unwrap(),
+        ensemble
+    );
+
+    // Shards split the runs and write no ensemble; merging them writes the same one.
+    let mut parts = Vec::new();
+    for i in 0..2 {
+        let part = dir.join(format!("part{i}.csv"));
+        let o = generate(
+            "tests/grids/replicas.toml",
+            &part,
+            &["--shard", &format!("{i}/2")],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(!dir.join(format!("part{i}.ensemble.csv")).exists());
+        parts.push(part.to_str().unwrap().to_string());
+    }
+    let merged = dir.join("merged.csv");
+    let o = suspflow(&[
+        "merge",
+        &parts[1],
+        &parts[0],
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&merged).unwrap(), data);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("merged.ensemble.csv")).unwrap(),
+        ensemble
+    );
+
+    // plot draws each replica as its own series; compare refuses several replicas in a file.
+    let o = suspflow(&[
+        "plot",
+        out.to_str().unwrap(),
+        "--out",
+        dir.join("plots").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(dir.join("plots/reps_000.svg")).unwrap();
+    assert!(
+        svg.contains("seed 3") && svg.contains("seed 5"),
+        "no series per seed"
+    );
+    let lines: Vec<&str> = data.lines().collect();
+    let scene_0 = dir.join("reps_000_runs.csv");
+    std::fs::write(&scene_0, format!("{}\n", lines[..19].join("\n"))).unwrap();
+    let o = suspflow(&[
+        "compare",
+        scene_0.to_str().unwrap(),
+        scene_0.to_str().unwrap(),
+    ]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("holds 3 runs (seeds 3, 4, ...)"),
+        "{}",
+        stderr(&o)
+    );
+
+    // Training and validation take either table, and say which one they read.
+    let stdout_of = |args: &[&str]| {
+        let o = suspflow(args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let [ensemble_path, models, plots, run_models] =
+        ["reps.ensemble.csv", "models", "plots", "run_models"].map(|f| dir.join(f));
+    let [ensemble_path, models, plots, run_models] =
+        [&ensemble_path, &models, &plots, &run_models].map(|p| p.to_str().unwrap());
+    let stdout = stdout_of(&[
+        "train",
+        "--data",
+        ensemble_path,
+        "--out",
+        models,
+        "--no-tune",
+    ]);
+    assert!(
+        stdout.contains("ensemble table: 2 scenes, means over 1-3 replicas"),
+        "{stdout}"
+    );
+    let stdout = stdout_of(&[
+        "validate",
+        "--models",
+        models,
+        "--data",
+        ensemble_path,
+        "--plots",
+        plots,
+    ]);
+    assert!(
+        stdout.contains("ensemble table") && stdout.contains("target noise"),
+        "{stdout}"
+    );
+    // The per-run table trains too, its replicas grouped as one scene.
+    let out = out.to_str().unwrap();
+    let stdout = stdout_of(&[
+        "train",
+        "--data",
+        out,
+        "--out",
+        run_models,
+        "--no-tune",
+        "--mapping",
+        "mu",
+    ]);
+    assert!(
+        stdout.contains("per-run table: 4 runs of 2 scenes"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn generate_keeps_an_ensemble_table_it_did_not_write_unless_forced() {
+    let dir = temp_dir("foreign-ensemble");
+    let out = dir.join("reps.csv");
+    let theirs = dir.join("reps.ensemble.csv");
+    std::fs::write(&theirs, "precious\n").unwrap();
+    let o = generate("tests/grids/replicas.toml", &out, &["--check"]);
+    assert!(o.status.success(), "--check writes nothing: {}", stderr(&o));
+    let o = generate("tests/grids/replicas.toml", &out, &[]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("reps.ensemble.csv already exists"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_to_string(&theirs).unwrap(), "precious\n");
 }

@@ -23,7 +23,7 @@ pub mod sampling;
 
 pub use error::SimError;
 pub use input::flow_profile::FlowProfile;
-pub use input::grid::{Grid, GridScene};
+pub use input::grid::{Grid, GridRun};
 pub use input::scene::{Scene, SceneFile};
 pub use integrate::simulation::Simulation;
 pub use integrate::timestep::{DtLimit, TimeStep};

@@ -1,5 +1,6 @@
 //! Grid expansion: the Cartesian product of [vary] times the [[cases]], in the documented
-//! order, with every scene validated and named so that ids sort in grid order.
+//! order, with every scene validated and named so that ids sort in grid order; replicas
+//! from seed lists or a `replicas` count, and clear refusals of bad ones.
 use sim::input::grid::Grid;
 
 const BASE: &str = r#"
@@ -25,9 +26,9 @@ seed = [1, 2, 3]
 "#
     );
     let grid = Grid::from_toml(&text, false).unwrap();
-    assert_eq!(grid.scenes.len(), 2 * 2 * 3);
+    assert_eq!(grid.runs.len(), 2 * 2 * 3);
     let got: Vec<(f64, f64, u64)> = grid
-        .scenes
+        .runs
         .iter()
         .map(|s| {
             (
@@ -48,19 +49,16 @@ seed = [1, 2, 3]
         ]
     );
     assert_eq!(got[6], (16.0, 0.45, 1));
-    assert_eq!(
-        grid.scenes[6].scene.file.fluid.profile,
-        "0.1*sin(2*pi*y/L)^3"
-    );
-    assert_eq!(grid.scenes[0].scene.file.fluid.profile, "0.1*sin(2*pi*y/L)");
-    let ids: Vec<&str> = grid.scenes.iter().map(|s| s.id.as_str()).collect();
+    assert_eq!(grid.runs[6].scene.file.fluid.profile, "0.1*sin(2*pi*y/L)^3");
+    assert_eq!(grid.runs[0].scene.file.fluid.profile, "0.1*sin(2*pi*y/L)");
+    let ids: Vec<&str> = grid.runs.iter().map(|s| s.id.as_str()).collect();
     assert_eq!(ids[0], "g_000");
     assert_eq!(ids[11], "g_011");
     assert!(
         ids.windows(2).all(|w| w[0] < w[1]),
         "ids sort in grid order"
     );
-    assert!(grid.scenes.iter().all(|s| s.scene.file.name == s.id));
+    assert!(grid.runs.iter().all(|s| s.scene.file.name == s.id));
 }
 
 #[test]
@@ -73,13 +71,29 @@ fn shards_are_disjoint_and_cover_the_grid() {
     seen.sort_unstable();
     assert_eq!(seen, (0..7).collect::<Vec<_>>());
     assert!(grid.shard(3, 3).is_err());
+    // With replicas the shards split runs, not scenes: 2 scenes x 3 seeds over 4 shards.
+    let text = format!(
+        "{}\n[vary]\nseed = [1, 2]\n",
+        BASE.replace("[scene]", "replicas = 3\n[scene]")
+    );
+    let grid = Grid::from_toml(&text, false).unwrap();
+    let mut seen: Vec<(usize, u64)> = (0..4)
+        .flat_map(|i| grid.shard(i, 4).unwrap())
+        .map(|r| (r.index, r.seed()))
+        .collect();
+    assert_eq!(grid.shard(0, 4).unwrap().len(), 2);
+    seen.sort_unstable();
+    let mut all: Vec<(usize, u64)> = grid.runs.iter().map(|r| (r.index, r.seed())).collect();
+    all.sort_unstable();
+    assert_eq!(seen, all);
+    assert_eq!(all.len(), 6);
 }
 
 #[test]
 fn stokes_sets_the_density_from_the_profile() {
     // gdot_max = 0.1 * 2 pi / 12; St = rho a^2 gdot_max / eta with a = 1.
     let text = format!("{BASE}\n[vary]\n\"particles.stokes\" = [0.05]\n");
-    let scene = &Grid::from_toml(&text, false).unwrap().scenes[0].scene;
+    let scene = &Grid::from_toml(&text, false).unwrap().runs[0].scene;
     let gdot = 0.1 * 2.0 * std::f64::consts::PI / 12.0;
     assert!(
         (scene.rho - 0.05 / gdot).abs() < 1e-9 * scene.rho,
@@ -92,8 +106,117 @@ fn stokes_sets_the_density_from_the_profile() {
 #[test]
 fn a_grid_without_vary_or_cases_is_one_scene() {
     let grid = Grid::from_toml(BASE, false).unwrap();
-    assert_eq!(grid.scenes.len(), 1);
-    assert_eq!(grid.scenes[0].id, "g_000");
+    assert_eq!(grid.runs.len(), 1);
+    assert_eq!(grid.runs[0].id, "g_000");
+}
+
+#[test]
+fn a_seed_list_gives_one_run_per_seed_under_the_scene_id() {
+    let text =
+        format!("{BASE}\n[[cases]]\nseed = [7, 3, 5]\n[[cases]]\n\"particles.phi\" = 0.45\n");
+    let grid = Grid::from_toml(&text, false).unwrap();
+    assert_eq!(grid.scene_count(), 2);
+    let runs: Vec<(&str, u64)> = grid
+        .runs
+        .iter()
+        .map(|r| (r.id.as_str(), r.seed()))
+        .collect();
+    // The second case keeps the default seed, 1; the list's order is kept.
+    assert_eq!(
+        runs,
+        [("g_000", 7), ("g_000", 3), ("g_000", 5), ("g_001", 1)]
+    );
+    assert!(grid.runs.iter().all(|r| r.scene.file.name == r.id));
+    assert_eq!(grid.runs[1].label(), "g_000_seed3");
+    // A list in [scene] applies to every scene.
+    let text = BASE.replace("[scene]", "[scene]\nseed = [2, 4]");
+    let grid = Grid::from_toml(
+        &format!("{text}[vary]\n\"particles.phi\" = [0.45, 0.5]\n"),
+        false,
+    )
+    .unwrap();
+    let phis: Vec<(f64, u64)> = grid
+        .runs
+        .iter()
+        .map(|r| (r.scene.file.particles.phi, r.seed()))
+        .collect();
+    assert_eq!(phis, [(0.45, 2), (0.45, 4), (0.5, 2), (0.5, 4)]);
+}
+
+#[test]
+fn a_replicas_count_derives_distinct_seeds_from_the_scene_seed() {
+    let grid = |replicas: i64, seed: u64| {
+        let text = BASE.replace(
+            "[scene]",
+            &format!("replicas = {replicas}\n[scene]\nseed = {seed}"),
+        );
+        Grid::from_toml(&text, false).unwrap()
+    };
+    let three = grid(3, 9);
+    let seeds: Vec<u64> = three.runs.iter().map(|r| r.seed()).collect();
+    assert_eq!(seeds.len(), 3);
+    assert_eq!(seeds[0], 9, "replica 0 is the scene itself");
+    assert!(
+        seeds[1] != seeds[2] && !seeds[1..].contains(&9),
+        "{seeds:?}"
+    );
+    assert!(three.runs.iter().all(|r| r.id == "g_000"));
+    // Deterministic, and a prefix for fewer replicas.
+    assert_eq!(
+        grid(2, 9).runs.iter().map(|r| r.seed()).collect::<Vec<_>>(),
+        seeds[..2]
+    );
+    assert_eq!(grid(1, 9).runs.len(), 1);
+    assert_ne!(grid(3, 10).runs[1].seed(), seeds[1]);
+}
+
+#[test]
+fn bad_seed_lists_and_counts_are_refused() {
+    let refusal = |text: String| {
+        Grid::from_toml(&text, false)
+            .err()
+            .unwrap_or_else(|| panic!("accepted {text}"))
+            .to_string()
+    };
+    let with_scene = |line: &str| BASE.replace("[scene]", &format!("[scene]\n{line}"));
+    let with_top = |line: &str| BASE.replace("[scene]", &format!("{line}\n[scene]"));
+    for (text, expected) in [
+        (
+            with_scene("seed = []"),
+            "scene g_000: `seed = []` lists no seed",
+        ),
+        (
+            with_scene("seed = [1, 2, 1]"),
+            "scene g_000: `seed` lists 1 twice",
+        ),
+        (
+            with_scene("seed = [1, -2]"),
+            "seed -2 is not a non-negative integer",
+        ),
+        (
+            with_scene("seed = [1, \"x\"]"),
+            "seed \"x\" is not a non-negative integer",
+        ),
+        (
+            with_top("replicas = 0"),
+            "`replicas = 0`: a scene needs at least one replica",
+        ),
+        (with_top("replicas = -3"), "`replicas = -3`"),
+        (
+            with_scene("replicas = 3"),
+            "`replicas` is a key of the grid, not of a scene",
+        ),
+        (
+            with_top("replicas = 2").replace("[scene]", "[scene]\nseed = [1, 2]"),
+            "`seed` lists 2 seeds and the grid sets `replicas`",
+        ),
+    ] {
+        let message = refusal(text);
+        assert!(
+            message.contains(expected),
+            "{message} should say {expected}"
+        );
+    }
 }
 
 #[test]

@@ -13,8 +13,8 @@ const DEFAULT_COLUMNS: [&str; 9] = [U, SIGMA_XY, P, PHI_LOC, J, MU, THETA, DELTA
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// First profile table (`profile.csv` of `simulate`, or a one-scene dataset; a file of
-    /// several scenes is refused).
+    /// First profile table (`profile.csv` of `simulate`, or a one-run dataset; a file of
+    /// several scenes or replicas is refused).
     a: PathBuf,
     /// Second profile table, same bins.
     b: PathBuf,
@@ -24,26 +24,40 @@ pub struct Args {
 }
 
 /// Reads a profile table with the surrogate's dataset reader; refuses a file holding more
-/// than one scene: their bins would be compared as one long profile.
+/// than one scene, or more than one replica (seed) of a scene: their bins would be compared
+/// as one long profile.
 fn read_one_scene(path: &Path) -> anyhow::Result<Dataset> {
     let data = Dataset::read_csv(path)?;
-    if data.column_names().iter().any(|n| n == GROUP_COLUMN) {
-        let mut ids: Vec<&str> = data
-            .text(GROUP_COLUMN)?
-            .iter()
-            .map(String::as_str)
-            .collect();
-        ids.dedup();
-        if ids.len() > 1 {
-            bail!(
-                "{} holds {} scenes ({}, ...); compare takes one scene per file (its profile.csv)",
-                path.display(),
-                ids.len(),
-                ids[..2].join(", ")
-            );
-        }
+    let ids = consecutive_values(&data, GROUP_COLUMN)?;
+    if ids.len() > 1 {
+        bail!(
+            "{} holds {} scenes ({}, ...); compare takes one scene per file (its profile.csv)",
+            path.display(),
+            ids.len(),
+            ids[..2].join(", ")
+        );
+    }
+    let seeds = consecutive_values(&data, dataset_columns::SEED)?;
+    if seeds.len() > 1 {
+        bail!(
+            "{} holds {} runs (seeds {}, ...); compare takes one run per file (or the \
+             ensemble table's rows of one scene)",
+            path.display(),
+            seeds.len(),
+            seeds[..2].join(", ")
+        );
     }
     Ok(data)
+}
+
+/// The values of column `name` with consecutive repeats dropped; none without the column.
+fn consecutive_values<'a>(data: &'a Dataset, name: &str) -> anyhow::Result<Vec<&'a str>> {
+    if !data.column_names().iter().any(|n| n == name) {
+        return Ok(Vec::new());
+    }
+    let mut values: Vec<&str> = data.text(name)?.iter().map(String::as_str).collect();
+    values.dedup();
+    Ok(values)
 }
 
 /// The column `name` of `data` (empty cells are NaN: undefined in that bin); a cell that is

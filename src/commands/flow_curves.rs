@@ -90,7 +90,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     crate::output_guard::out_dir(&args.out)?;
     let mut points = Vec::new();
     let mut missing = Vec::new();
-    for gs in &grid.scenes {
+    for gs in &grid.runs {
         let Some(gdot) = gs.scene.shear_rate() else {
             bail!(
                 "{}: scene {} has no fluid.shear_rate; flow curves need homogeneous shear",
@@ -98,9 +98,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 gs.id
             );
         };
-        let work = SceneWork::new(&args.runs, &gs.id);
+        let work = SceneWork::new(&args.runs, &gs.label());
         if !matches!(work.status()?, SceneStatus::Done(_)) {
-            missing.push(gs.id.clone());
+            missing.push(gs.label());
             continue;
         }
         let path = work.dir.join("summary.json");
@@ -122,9 +122,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     if !missing.is_empty() {
         eprintln!(
-            "warning: {} of {} scenes not finished in {} (run `suspflow generate {} --out ... --work {}`): {}",
+            "warning: {} of {} runs not finished in {} (run `suspflow generate {} --out ... --work {}`): {}",
             missing.len(),
-            grid.scenes.len(),
+            grid.runs.len(),
             args.runs.display(),
             args.grid.display(),
             args.runs.display(),

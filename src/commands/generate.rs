@@ -1,24 +1,31 @@
-//! `suspflow generate GRID.toml --out FILE.csv`: runs every scene of a grid and writes the
-//! dataset (one row per bin per finished scene, docs/physics.md section 8) and a table of the scenes.
+//! `suspflow generate GRID.toml --out FILE.csv`: runs every scene of a grid, every replica
+//! (seed) of a scene as its own run, and writes the dataset (one row per bin per finished
+//! run, docs/physics.md section 8), a table of the runs and, when a scene has replicas, the
+//! ensemble table and its summary (`crate::ensemble_table`).
 //!
-//! Scenes run in parallel, one thread each by default: below 2048 particles the pair loop
+//! Runs go in parallel, one thread each by default: below 2048 particles the pair loop
 //! is serial (see `sim::forces::force_accumulation`), and the bench shows one scene on two threads
-//! no faster than on one at N = 1000, so two scenes at a time use both cores fully.
-//! Longest scenes start first. Every scene checkpoints into `<FILE>.work/<id>/`; re-running
-//! the same command skips finished scenes and resumes the others from their checkpoints.
-//! After each scene the dataset is rewritten atomically with the finished scenes in grid
-//! order, so it is always complete and the same as an uninterrupted run's.
+//! no faster than on one at N = 1000, so two runs at a time use both cores fully.
+//! Longest runs start first. Every run checkpoints into `<FILE>.work/<id>_seed<seed>/`;
+//! re-running the same command skips finished runs and resumes the others from their
+//! checkpoints. After each run the dataset is rewritten atomically with the finished runs in
+//! grid order, so it is always complete and the same as an uninterrupted run's; the ensemble
+//! table holds the scenes none of whose runs is still to do (a failed replica is left out:
+//! the `replicas` column says how many were averaged). `--shard` splits the runs (a
+//! scene's replicas may land in different parts): the parts write no ensemble table, `merge`
+//! writes it from the combined parts.
 //!
-//! An existing `<FILE>` (or scene table) is replaced only if this grid wrote it (its work
-//! directory holds one of the grid's scenes) or with `--force`; a lock in the work
+//! An existing `<FILE>` (or run table, or ensemble table) is replaced only if this grid wrote
+//! it (its work directory holds one of the grid's runs) or with `--force`; a lock in the work
 //! directory keeps a second run on the same output out.
 use crate::dataset_file::DatasetFile;
+use crate::ensemble_table;
 use crate::file_lock::FileLock;
 use crate::output_guard;
 use crate::scene_work::{SceneStatus, SceneSummary, SceneWork};
 use anyhow::{bail, Context};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
-use sim::input::grid::{Grid, GridScene};
+use sim::input::grid::{Grid, GridRun};
 use sim::integrate::timestep::TimeStep;
 use sim::run::{Phase, RunOptions};
 use sim::SimError;
@@ -36,32 +43,33 @@ const STATUS_EVERY_S: u64 = 60;
 pub struct Args {
     /// Grid file (TOML, see README and `grids/`).
     grid: PathBuf,
-    /// Dataset to write; the scene table goes to `<stem>.scenes.csv` beside it.
+    /// Dataset to write; the run table goes to `<stem>.scenes.csv` beside it, and with
+    /// replicas the ensemble table to `<stem>.ensemble.csv` (summary `<stem>.ensemble.json`).
     #[arg(long)]
     out: PathBuf,
-    /// Run only part `I` of `N` disjoint parts of the grid (0 <= I < N), e.g. a SLURM array
-    /// task; combine the parts with `suspflow merge`.
+    /// Run only part `I` of `N` disjoint parts of the grid's runs (0 <= I < N), e.g. a SLURM
+    /// array task; combine the parts with `suspflow merge`.
     #[arg(long, value_name = "I/N", value_parser = parse_shard)]
     shard: Option<(usize, usize)>,
-    /// Scenes run at the same time (0 = one per core).
+    /// Runs at the same time (0 = one per core).
     #[arg(long, default_value_t = 0)]
     jobs: usize,
-    /// Threads per scene (0 = cores / jobs).
+    /// Threads per run (0 = cores / jobs).
     #[arg(long, default_value_t = 0)]
     threads: usize,
-    /// Work directory for checkpoints and per-scene results (default `<out>.work`).
+    /// Work directory for checkpoints and per-run results (default `<out>.work`).
     #[arg(long)]
     work: Option<PathBuf>,
-    /// Run again the scenes that failed in an earlier run.
+    /// Run again the runs that failed in an earlier invocation.
     #[arg(long)]
     retry_failed: bool,
     /// Refuse scenes that only warrant a warning (Stokes number >= 0.1).
     #[arg(long)]
     strict: bool,
-    /// List the scenes with their size, time step and cost, and run nothing.
+    /// List the runs with their size, time step and cost, and run nothing.
     #[arg(long)]
     check: bool,
-    /// Replace an existing dataset or scene table that this grid did not write.
+    /// Replace an existing dataset, run table or ensemble table that this grid did not write.
     #[arg(long)]
     force: bool,
 }
@@ -78,7 +86,7 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     Ok((i, n))
 }
 
-/// Estimated particle-steps of a scene up to its strain budget plus its averaging.
+/// Estimated particle-steps of a run up to its strain budget plus its averaging.
 fn cost(scene: &sim::input::scene::Scene) -> f64 {
     let r = &scene.file.run;
     let strain = r.max_strain.min(10.0) + r.sample_strain * r.snapshots as f64;
@@ -89,11 +97,13 @@ fn cost(scene: &sim::input::scene::Scene) -> f64 {
 struct Outputs {
     dataset: PathBuf,
     scene_table: PathBuf,
+    /// The ensemble table and summary, when this invocation writes them.
+    ensemble: Option<[PathBuf; 2]>,
     work: PathBuf,
 }
 
 impl Outputs {
-    fn new(args: &Args) -> Outputs {
+    fn new(args: &Args, ensemble: bool) -> Outputs {
         let stem = args.out.with_extension("");
         let mut table = stem.into_os_string();
         table.push(".scenes.csv");
@@ -105,6 +115,7 @@ impl Outputs {
         Outputs {
             dataset: args.out.clone(),
             scene_table: PathBuf::from(table),
+            ensemble: ensemble.then(|| ensemble_table::paths(&args.out)),
             work,
         }
     }
@@ -116,14 +127,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let scenes = grid.shard(shard_i, shard_n)?;
     for gs in &scenes {
         for w in &gs.scene.warnings {
-            eprintln!("warning: {}: {w}", gs.id);
+            eprintln!("warning: {}: {w}", gs.label());
         }
     }
     if args.check {
         print_check(&scenes);
         return Ok(());
     }
-    let outputs = Outputs::new(&args);
+    let replicas = grid.runs.len() > grid.scene_count();
+    if replicas && shard_n > 1 {
+        eprintln!("note: the ensemble table of a grid with replicas is written by `suspflow merge` of the parts");
+    }
+    let outputs = Outputs::new(&args, replicas && shard_n == 1);
     guard_outputs(&outputs, &scenes, args.force)?;
     if let Some(parent) = outputs
         .dataset
@@ -141,7 +156,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     )?;
     let mut todo = Vec::new();
     for gs in &scenes {
-        let work = SceneWork::new(&outputs.work, &gs.id);
+        let work = SceneWork::new(&outputs.work, &gs.label());
         work.prepare(&gs.scene.file)?;
         match work.status()? {
             SceneStatus::Done(_) => {}
@@ -169,10 +184,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let skipped = scenes.len() - todo.len();
     eprintln!(
-        "grid `{}`{}: {} scenes, {} already finished or failed; running {} at a time on {} thread(s) each",
+        "grid `{}`{}: {} runs of {} scenes, {} already finished or failed; running {} at a time on {} thread(s) each",
         grid.name,
         if shard_n > 1 { format!(" shard {shard_i}/{shard_n}") } else { String::new() },
-        scenes.len(), skipped, jobs, threads
+        scenes.len(), grid.scene_count(), skipped, jobs, threads
     );
     write_outputs(&outputs, &scenes)?;
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
@@ -181,7 +196,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let multi = MultiProgress::new();
     let overall = multi.add(ProgressBar::new(todo.len() as u64));
     overall.set_style(ProgressStyle::with_template(
-        "[{elapsed_precise}] {bar:30} {pos}/{len} scenes {msg}",
+        "[{elapsed_precise}] {bar:30} {pos}/{len} runs {msg}",
     )?);
     let log = |line: String| {
         if multi.is_hidden() {
@@ -226,45 +241,49 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(e) = worker_error.into_inner().ok().flatten() {
         return Err(e);
     }
-    report(&outputs, &scenes)
+    let summary = write_outputs(&outputs, &scenes)?;
+    report(&outputs, &scenes, summary)
 }
 
-/// Refuses to replace a dataset or scene table that this grid did not write: one counts as
-/// the grid's own when the work directory holds a folder of one of its scenes.
-fn guard_outputs(outputs: &Outputs, scenes: &[&GridScene], force: bool) -> anyhow::Result<()> {
+/// Refuses to replace a dataset, run table or ensemble table that this grid did not write:
+/// one counts as the grid's own when the work directory holds a folder of one of its runs.
+fn guard_outputs(outputs: &Outputs, scenes: &[&GridRun], force: bool) -> anyhow::Result<()> {
     output_guard::out_file(&outputs.dataset)?;
     let ours = scenes.iter().any(|gs| {
-        SceneWork::new(&outputs.work, &gs.id)
+        SceneWork::new(&outputs.work, &gs.label())
             .dir
             .join("scene.toml")
             .exists()
     });
     if !ours {
         let what = format!(
-            "not written by this grid: {} holds none of its scenes",
+            "not written by this grid: {} holds none of its runs",
             outputs.work.display()
         );
-        for file in [&outputs.dataset, &outputs.scene_table] {
+        for file in [&outputs.dataset, &outputs.scene_table]
+            .into_iter()
+            .chain(outputs.ensemble.iter().flatten())
+        {
             output_guard::refuse_unless_force(file, force, &what, "choose another --out")?;
         }
     }
     Ok(())
 }
 
-/// Runs one scene into its work folder; a failure of the scene itself is recorded there,
-/// and only problems of the work directory are returned as errors.
+/// Runs one replica of a scene into its work folder; a failure of the run itself is
+/// recorded there, and only problems of the work directory are returned as errors.
 fn run_scene(
-    gs: &GridScene,
+    gs: &GridRun,
     root: &Path,
     threads: usize,
     bar: &ProgressBar,
     log: &(dyn Fn(String) + Sync),
 ) -> anyhow::Result<()> {
-    let work = SceneWork::new(root, &gs.id);
+    let label = gs.label();
+    let work = SceneWork::new(root, &label);
     let resuming = work.checkpoint().exists();
     log(format!(
-        "{} start{}: N = {}, L_y = {}, phi = {}, `{}`",
-        gs.id,
+        "{label} start{}: N = {}, L_y = {}, phi = {}, `{}`",
         if resuming { " (resuming)" } else { "" },
         gs.scene.n_particles(),
         gs.scene.box_len[1],
@@ -282,12 +301,12 @@ fn run_scene(
         sim::run::run(&gs.scene, &opts, &mut |p, _| {
             let msg = match p.phase {
                 Phase::Equilibrating => format!(
-                    "{}: equilibrating, strain {:.2} (budget {})",
-                    gs.id, p.strain, p.max_strain
+                    "{label}: equilibrating, strain {:.2} (budget {})",
+                    p.strain, p.max_strain
                 ),
                 Phase::Averaging => format!(
-                    "{}: averaging, snapshot {} / {}",
-                    gs.id, p.snapshots, p.snapshots_target
+                    "{label}: averaging, snapshot {} / {}",
+                    p.snapshots, p.snapshots_target
                 ),
             };
             // Without a terminal (batch jobs, nohup) the bars are hidden: a status line a minute instead.
@@ -304,31 +323,35 @@ fn run_scene(
             std::fs::remove_file(work.checkpoint()).ok();
             let s = &outcome.summary;
             log(format!(
-                "{} done in {:.0} s: steady at strain {:.2}, momentum residual {:.4}",
-                gs.id,
+                "{label} done in {:.0} s: steady at strain {:.2}, momentum residual {:.4}",
                 started.elapsed().as_secs_f64(),
                 s.strain_to_steady,
                 s.momentum_residual.unwrap_or(f64::NAN)
             ));
         }
         Err(SimError::Interrupted { step }) => log(format!(
-            "{} interrupted at step {step}; checkpoint saved",
-            gs.id
+            "{label} interrupted at step {step}; checkpoint saved"
         )),
         Err(e) => {
-            log(format!("{} FAILED: {e}", gs.id));
+            log(format!("{label} FAILED: {e}"));
             work.record_failure(&e.to_string())?;
         }
     }
     Ok(())
 }
 
-/// Rewrites the dataset (finished scenes in grid order) and the scene table, atomically.
-fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()> {
+/// Rewrites the dataset (finished runs in grid order), the run table and, when this
+/// invocation writes one, the ensemble table of the scenes with no run left to do, all
+/// atomically; returns the ensemble's summary when one was written.
+fn write_outputs(
+    outputs: &Outputs,
+    scenes: &[&GridRun],
+) -> anyhow::Result<Option<ensemble_table::EnsembleSummary>> {
     let mut dataset = DatasetFile {
         header: sim::output::dataset_columns::header(),
-        scenes: Default::default(),
+        runs: Default::default(),
     };
+    let mut unfinished = std::collections::HashSet::new();
     // Written through the csv crate: a failure reason holds commas, quotes and newlines.
     let mut table = csv::Writer::from_writer(Vec::new());
     let mut header = vec![
@@ -348,7 +371,7 @@ fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()>
     header.extend(SceneSummary::COLUMNS);
     table.write_record(&header)?;
     for gs in scenes {
-        let work = SceneWork::new(&outputs.work, &gs.id);
+        let work = SceneWork::new(&outputs.work, &gs.label());
         let (status, reason, summary) = match work.status()? {
             SceneStatus::Done(summary) => {
                 let part = DatasetFile::read(&work.profile_csv())?;
@@ -356,7 +379,10 @@ fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()>
                 ("done", String::new(), Some(summary))
             }
             SceneStatus::Failed(reason) => ("failed", reason, None),
-            SceneStatus::Pending => ("pending", String::new(), None),
+            SceneStatus::Pending => {
+                unfinished.insert(gs.id.as_str());
+                ("pending", String::new(), None)
+            }
         };
         let f = &gs.scene.file;
         let [l_x, l_y, l_z] = gs.scene.box_len;
@@ -382,32 +408,60 @@ fn write_outputs(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()>
     }
     sim::output::atomic_write::write_atomic(&outputs.dataset, dataset.to_text().as_bytes())?;
     sim::output::atomic_write::write_atomic(&outputs.scene_table, &table.into_inner()?)?;
-    Ok(())
+    let Some(ensemble) = &outputs.ensemble else {
+        return Ok(None);
+    };
+    dataset
+        .runs
+        .retain(|(id, _), _| !unfinished.contains(id.as_str()));
+    if dataset.runs.is_empty() {
+        for file in ensemble {
+            std::fs::remove_file(file).ok();
+        }
+        return Ok(None);
+    }
+    Ok(Some(ensemble_table::write_beside(
+        &outputs.dataset,
+        &dataset.to_text(),
+    )?))
 }
 
-/// Final summary; an error if scenes failed or the run was interrupted.
-fn report(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()> {
+/// Final summary; an error if runs failed or the invocation was interrupted.
+fn report(
+    outputs: &Outputs,
+    scenes: &[&GridRun],
+    ensemble: Option<ensemble_table::EnsembleSummary>,
+) -> anyhow::Result<()> {
     let (mut done, mut failed, mut pending) = (0, Vec::new(), 0);
     for gs in scenes {
-        match SceneWork::new(&outputs.work, &gs.id).status()? {
+        match SceneWork::new(&outputs.work, &gs.label()).status()? {
             SceneStatus::Done(_) => done += 1,
-            SceneStatus::Failed(reason) => failed.push(format!("  {}: {reason}", gs.id)),
+            SceneStatus::Failed(reason) => failed.push(format!("  {}: {reason}", gs.label())),
             SceneStatus::Pending => pending += 1,
         }
     }
     let rows = DatasetFile::read(&outputs.dataset)?.rows();
     println!(
-        "dataset: {} ({rows} rows from {done} scenes)",
+        "dataset: {} ({rows} rows from {done} runs)",
         outputs.dataset.display()
     );
-    println!("scenes:  {}", outputs.scene_table.display());
+    println!("runs:    {}", outputs.scene_table.display());
+    if let (Some([table, json]), Some(summary)) = (&outputs.ensemble, &ensemble) {
+        println!(
+            "ensemble: {} (summary {}): per observable, the between-replica standard error \
+             over the batch-means one, and the relative ensemble error\n{}",
+            table.display(),
+            json.display(),
+            ensemble_table::describe(summary)
+        );
+    }
     if pending > 0 {
-        bail!("interrupted with {pending} scene(s) unfinished (state saved in {}); run the same command again to continue",
+        bail!("interrupted with {pending} run(s) unfinished (state saved in {}); run the same command again to continue",
             outputs.work.display());
     }
     if !failed.is_empty() {
         bail!(
-            "{} scene(s) failed and are not in the dataset (--retry-failed runs them again):\n{}",
+            "{} run(s) failed and are not in the dataset (--retry-failed runs them again):\n{}",
             failed.len(),
             failed.join("\n")
         );
@@ -415,11 +469,11 @@ fn report(outputs: &Outputs, scenes: &[&GridScene]) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The scenes and their estimated cost, without running.
-fn print_check(scenes: &[&GridScene]) {
+/// The runs and their estimated cost, without running.
+fn print_check(scenes: &[&GridRun]) {
     println!(
-        "{:<14} {:>6} {:>6} {:>5} {:>7} {:>7} {:>9} {:>12}  profile",
-        "scene", "N", "L_y", "phi", "rho", "St", "dt", "part-steps"
+        "{:<14} {:>10} {:>6} {:>6} {:>5} {:>7} {:>7} {:>9} {:>12}  profile",
+        "scene", "seed", "N", "L_y", "phi", "rho", "St", "dt", "part-steps"
     );
     let mut total = 0.0;
     for gs in scenes {
@@ -427,8 +481,9 @@ fn print_check(scenes: &[&GridScene]) {
         let c = cost(s);
         total += c;
         println!(
-            "{:<14} {:>6} {:>6} {:>5} {:>7.3} {:>7.4} {:>9.3e} {:>12.3e}  {}",
+            "{:<14} {:>10} {:>6} {:>6} {:>5} {:>7.3} {:>7.4} {:>9.3e} {:>12.3e}  {}",
             gs.id,
+            gs.seed(),
             s.n_particles(),
             s.box_len[1],
             s.file.particles.phi,
@@ -439,5 +494,11 @@ fn print_check(scenes: &[&GridScene]) {
             s.profile.expr()
         );
     }
-    println!("{} scenes, about {total:.3e} particle-steps (equilibration capped at 10 strain, plus averaging)", scenes.len());
+    let mut ids: Vec<&str> = scenes.iter().map(|r| r.id.as_str()).collect();
+    ids.dedup();
+    println!(
+        "{} runs of {} scenes, about {total:.3e} particle-steps (equilibration capped at 10 strain, plus averaging)",
+        scenes.len(),
+        ids.len()
+    );
 }

@@ -1,12 +1,16 @@
 //! `suspflow merge PART.csv ... --out ALL.csv`: combines datasets written by `generate
-//! --shard` (or any datasets of distinct scenes) into one, scenes in id (grid) order.
+//! --shard` (or any datasets of distinct runs) into one, runs in (scene id, seed) order.
+//! When a scene has several replicas (seeds), the ensemble table and its summary go beside
+//! the output (`<stem>.ensemble.csv`, `<stem>.ensemble.json`, see `crate::ensemble_table`),
+//! replaced as the output is.
 use crate::dataset_file::DatasetFile;
+use crate::ensemble_table;
 use anyhow::bail;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Dataset files to combine (same header, no scene in two files).
+    /// Dataset files to combine (same header, no run (scene and seed) in two files).
     #[arg(required = true)]
     parts: Vec<PathBuf>,
     /// The combined dataset.
@@ -30,13 +34,25 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     let merged = merged.expect("clap requires at least one part");
-    sim::output::atomic_write::write_atomic(&args.out, merged.to_text().as_bytes())?;
+    let text = merged.to_text();
+    sim::output::atomic_write::write_atomic(&args.out, text.as_bytes())?;
     println!(
-        "{}: {} rows from {} scenes in {} files",
+        "{}: {} rows from {} runs of {} scenes in {} files",
         args.out.display(),
         merged.rows(),
-        merged.scenes.len(),
+        merged.runs.len(),
+        merged.scene_count(),
         args.parts.len()
     );
+    if merged.has_replicas() {
+        let summary = ensemble_table::write_beside(&args.out, &text)?;
+        let [table, json] = ensemble_table::paths(&args.out);
+        println!(
+            "ensemble: {} (summary {})\n{}",
+            table.display(),
+            json.display(),
+            ensemble_table::describe(&summary)
+        );
+    }
     Ok(())
 }

@@ -1,6 +1,7 @@
-//! `suspflow plot DATA.csv --out DIR`: one SVG per scene of a dataset (or a `profile.csv`)
-//! with u (and u_inf), phi_loc, mu, J, Theta and Delta_v along y, each bin's value with one
-//! standard error, like the thesis' figure 6.1.
+//! `suspflow plot DATA.csv --out DIR`: one SVG per scene of a dataset (or a `profile.csv`,
+//! or an ensemble table) with u (and u_inf), phi_loc, mu, J, Theta and Delta_v along y, each
+//! bin's value with one standard error, like the thesis' figure 6.1; the replicas (seeds) of
+//! a scene are drawn as one series each.
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
 use anyhow::Context;
 use sim::output::dataset_columns as col;
@@ -39,16 +40,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         data.text(col::PHI)?,
     );
     let (y, u_inf) = (data.column(col::Y)?, data.column(col::U_INF)?);
+    let seeds = data.text(col::SEED).ok();
     for id in scenes {
         let rows: Vec<usize> = (0..data.n_rows()).filter(|&r| ids[r] == id).collect();
+        let replicas = replica_rows(&rows, seeds);
         let mut panels = Vec::new();
         for q in QUANTITIES {
             let (v, se) = (data.column(q)?, data.column(&col::standard_error(q))?);
-            let mut series = vec![Series {
-                name: "simulated".into(),
-                points: rows.iter().map(|&r| (y[r], v[r])).collect(),
-                errors: Some(rows.iter().map(|&r| se[r]).collect()),
-            }];
+            let mut series: Vec<Series> = replicas
+                .iter()
+                .map(|(name, rows)| Series {
+                    name: name.clone(),
+                    points: rows.iter().map(|&r| (y[r], v[r])).collect(),
+                    errors: Some(rows.iter().map(|&r| se[r]).collect()),
+                })
+                .collect();
             if q == "u" {
                 series.push(Series {
                     name: "u_inf".into(),
@@ -71,6 +77,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         println!("{}", path.display());
     }
     Ok(())
+}
+
+/// The rows of one scene split by seed, named `seed <s>`, in order of first appearance; all
+/// of them as `simulated` when the table has no seed column or the scene one seed.
+fn replica_rows(rows: &[usize], seeds: Option<&[String]>) -> Vec<(String, Vec<usize>)> {
+    let mut replicas: Vec<(String, Vec<usize>)> = Vec::new();
+    for &row in rows {
+        let seed = seeds.map_or("", |s| s[row].as_str());
+        match replicas.iter_mut().find(|(s, _)| s == seed) {
+            Some((_, rows)) => rows.push(row),
+            None => replicas.push((seed.to_string(), vec![row])),
+        }
+    }
+    if replicas.len() == 1 {
+        replicas[0].0 = "simulated".into();
+    } else {
+        for (name, _) in &mut replicas {
+            *name = format!("seed {name}");
+        }
+    }
+    replicas
 }
 
 /// The scenes of `ids` (one per row) in file order. Each id names an SVG file, so it must

@@ -163,7 +163,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// The scenes of `grid`; in quick mode with the box shrunk to [`QUICK_BOX`] across.
 fn validation_scenes(grid: &Path, full: bool) -> anyhow::Result<Vec<sim::input::scene::Scene>> {
     let grid = sim::input::grid::Grid::from_path(grid, false)?;
-    grid.scenes
+    grid.runs
         .into_iter()
         .map(|g| {
             let mut file = g.scene.file.clone();

@@ -9,13 +9,17 @@
 use anyhow::Context;
 use std::path::PathBuf;
 use std::time::Instant;
-use surrogate::{standard_grid, Dataset, HyperParameters, Mapping, Samples, TrainedModel, Tuning};
+use surrogate::{
+    standard_grid, Dataset, HyperParameters, Mapping, Samples, TableKind, TrainedModel, Tuning,
+};
 
 use crate::surrogate_text::{describe, errors_by_output, warn_skipped};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Training table (one row per bin per simulation, docs/physics.md section 8 columns).
+    /// Training table: the per-run table of `generate` (one row per bin per run) or its
+    /// ensemble table (`<stem>.ensemble.csv`, one row per bin per scene), told apart by the
+    /// columns (docs/physics.md section 8).
     #[arg(long)]
     data: PathBuf,
     /// Directory for `<mapping>.json`, `<mapping>.meta.json` and `<mapping>.tuning.json`.
@@ -44,6 +48,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             &format!("a trained `{}` model", mapping.name),
             "give another --out",
         )?;
+    }
+    // A table without scene ids has no kind; Samples::from_dataset names that problem below.
+    if let Ok(kind) = TableKind::of(&dataset) {
+        println!(
+            "training data {}: {}",
+            dataset.source_name(),
+            kind.describe()
+        );
     }
     let started = Instant::now();
     for mapping in mappings {

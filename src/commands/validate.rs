@@ -3,7 +3,8 @@
 //!
 //! For each mapping, output and profile (the `profile` column, and all profiles together) it
 //! prints the relative L2 error of eq 6.6 on outputs min-max scaled with the training ranges
-//! stored in the model's sidecar, next to the seeds' figures. From the training data (the
+//! stored in the model's sidecar, next to the seeds' figures and the targets' own noise (the
+//! same error of the targets shifted by one standard error: small for an ensemble table). From the training data (the
 //! file the sidecar names, or `--train`) it then measures on all validation rows, with
 //! training times, the chosen XGBoost setting, XGBoost's defaults (the thesis's untuned
 //! setting) and two linfa least-squares baselines; it also shows the cross-validated errors
@@ -17,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use surrogate::{
     evaluate_baseline, profile_names, seeds_validation_error, Baseline, Dataset, HyperParameters,
-    Mapping, Samples, TrainedModel, Tuning, Validation, PROFILE_COLUMN,
+    Mapping, Samples, TableKind, TrainedModel, Tuning, Validation, PROFILE_COLUMN,
 };
 
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
@@ -29,8 +30,9 @@ pub struct Args {
     /// Directory of the trained models (`suspflow train --out`).
     #[arg(long, default_value = "models")]
     models: PathBuf,
-    /// Validation table (simulations not used in training, docs/physics.md section 8 columns); profiles
-    /// are told apart by the `profile` column.
+    /// Validation table (simulations not used in training, docs/physics.md section 8 columns):
+    /// the per-run table or the ensemble table (`<stem>.ensemble.csv`), told apart by the
+    /// columns; profiles are told apart by the `profile` column.
     #[arg(long)]
     data: PathBuf,
     /// Mappings to validate (mu, theta, dv); all three when absent.
@@ -92,6 +94,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         data.source_name(),
         data.n_rows()
     );
+    // A table without scene ids has no kind (validation groups by profile, not by scene).
+    if let Ok(kind) = TableKind::of(&data) {
+        println!("  {}", kind.describe());
+    }
     for c in &checked {
         print_errors(c);
         print_comparison(c, args.train.as_deref(), &args.models)?;
@@ -152,7 +158,7 @@ fn print_errors(c: &Checked) {
         .map(|e| e.profile.len())
         .max()
         .unwrap_or(0)
-        .max(24);
+        .max(26);
     let header: String = c
         .mapping
         .outputs
@@ -181,6 +187,17 @@ fn print_errors(c: &Checked) {
         .map(|cell| format!("{cell:>10}"))
         .collect();
     println!("  {:<width$} {:>5}{seeds}", "seeds (thesis, all)", "");
+    if let Some(noise) = &c.validation.target_noise {
+        let cells: String = noise
+            .iter()
+            .map(|&e| format!("{:>10}", percent(e)))
+            .collect();
+        println!(
+            "  {:<width$} {:>5}{cells}",
+            "target noise (1 s.e., all)",
+            c.validation.samples.n_rows()
+        );
+    }
 }
 
 /// Errors on all validation rows of models trained on the training data: the chosen and the

@@ -1,9 +1,10 @@
 //! SVG figures: profiles along y (`profile_panels`), log-log error curves (`loglog`), the
-//! stability map (`stability_map`) and measured points beside model curves
-//! (`data_and_laws`), on a shared frame (`chart_frame`).
+//! stability map (`stability_map`), measured points beside model curves (`data_and_laws`)
+//! on a shared frame (`chart_frame`), and scatter plots of dataset rows (`scatter_panels`).
 
 pub mod chart_frame;
 pub mod data_and_laws;
 pub mod loglog;
 pub mod profile_panels;
+pub mod scatter_panels;
 pub mod stability_map;

@@ -32,6 +32,7 @@ pub mod predictor;
 pub mod profile_solver;
 pub mod samples;
 pub mod scaling;
+pub mod table_kind;
 pub mod training_domain;
 pub mod tuning;
 pub mod validation;
@@ -55,6 +56,7 @@ pub use predictor::Predictor;
 pub use profile_solver::{Closure, LearnedClosure, ProfileProblem, ProfileSolution};
 pub use samples::Samples;
 pub use scaling::{MinMaxScaling, Range};
+pub use table_kind::TableKind;
 pub use training_domain::{DomainCheck, TrainingDomain};
 pub use tuning::{standard_grid, Tuning};
 pub use validation::{

@@ -7,6 +7,7 @@ use ndarray::Array2;
 use crate::dataset::Dataset;
 use crate::error::Result;
 use crate::mapping::Mapping;
+use crate::metrics::relative_l2_error;
 use crate::model::TrainedModel;
 use crate::samples::Samples;
 
@@ -65,6 +66,11 @@ pub struct Validation {
     /// Errors over the rows inside ([`IN_DOMAIN`]) and outside ([`OUT_OF_DOMAIN`]) the
     /// training domain, all profiles together; a class without rows has no entry.
     pub domain_errors: Vec<ProfileError>,
+    /// The targets' own noise on all rows, per output: the relative L2 error (eq 6.6, same
+    /// scaling) of the targets shifted by one standard error (`<output>_se`), i.e. what a
+    /// model that predicts the true mean scores against targets as noisy as stated. `None`
+    /// when an output has no standard-error column or an empty one in a validation row.
+    pub target_noise: Option<Vec<f64>>,
 }
 
 impl Validation {
@@ -104,6 +110,7 @@ impl Validation {
         domain_errors.extend(group_error(IN_DOMAIN, &|i| in_domain[i])?);
         domain_errors.extend(group_error(OUT_OF_DOMAIN, &|i| !in_domain[i])?);
         let predicted = model.predict_features(samples.features.view())?;
+        let target_noise = target_noise(model, dataset, &samples)?;
         Ok(Validation {
             samples,
             profiles,
@@ -111,8 +118,39 @@ impl Validation {
             errors,
             in_domain,
             domain_errors,
+            target_noise,
         })
     }
+}
+
+/// See [`Validation::target_noise`].
+fn target_noise(
+    model: &TrainedModel,
+    dataset: &Dataset,
+    samples: &Samples,
+) -> Result<Option<Vec<f64>>> {
+    let names = dataset.column_names();
+    let mut shifted = samples.outputs.clone();
+    for (j, output) in samples.output_names.iter().enumerate() {
+        let se_name = sim::output::dataset_columns::standard_error(output);
+        if !names.contains(&se_name) {
+            return Ok(None);
+        }
+        let se = dataset.column(&se_name)?;
+        for (i, &row) in samples.data_rows.iter().enumerate() {
+            let e = se[row - 1];
+            if !e.is_finite() {
+                return Ok(None);
+            }
+            shifted[[i, j]] += e;
+        }
+    }
+    let scaling = &model.meta().scaling;
+    let truth = scaling.scale(samples.outputs.view())?;
+    Ok(Some(relative_l2_error(
+        truth.view(),
+        scaling.scale(shifted.view())?.view(),
+    )?))
 }
 
 /// The distinct values of [`PROFILE_COLUMN`], in order of first appearance.

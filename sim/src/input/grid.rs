@@ -3,6 +3,7 @@
 //!
 //! ```toml
 //! name = "train"                 # prefix of the scene ids
+//! replicas = 3                   # optional: runs per scene, seeds derived (see below)
 //! [scene]                        # any scene-file field, fixed for every scene
 //! box = { l_x = 17.0, l_z = 17.0 }
 //! fluid = { profile = "0.1*sin(2*pi*y/L)" }
@@ -17,7 +18,13 @@
 //! Scenes are numbered cases first, then the `vary` keys in alphabetical order with the
 //! last key varying fastest; scene `k` is named `<name>_<k>` with `k` zero-padded, so that
 //! sorting ids sorts scenes in grid order.
+//!
+//! Replicas: a scene whose `seed` is a list (`seed = [1, 2, 3]`, in `[scene]` or a case), or
+//! every scene of a grid with a top-level `replicas = R`, runs once per seed (see
+//! [`crate::input::replica_seeds`]). Each replica is one [`GridRun`]: the replicas of a scene
+//! share its id and differ in `seed`.
 use crate::error::SimError;
+use crate::input::replica_seeds::replica_seeds;
 use crate::input::scene::{Scene, SceneFile};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -35,23 +42,40 @@ struct GridFile {
     vary: BTreeMap<String, Value>,
     #[serde(default)]
     cases: Vec<BTreeMap<String, Value>>,
+    /// Replicas of every scene, seeds derived from the scene's seed.
+    replicas: Option<i64>,
 }
 
-/// One scene of a grid, validated.
+/// One run of a grid: one replica of one scene, validated.
 #[derive(Clone, Debug)]
-pub struct GridScene {
-    /// Position in the grid (0-based).
+pub struct GridRun {
+    /// Position of the scene in the grid (0-based).
     pub index: usize,
-    /// `<grid name>_<index>`, also the scene's `name`.
+    /// `<grid name>_<index>`, also the scene's `name`; the same for every replica.
     pub id: String,
+    /// The scene with this replica's seed (`scene.file.seed`).
     pub scene: Scene,
+}
+
+impl GridRun {
+    /// The replica's seed.
+    pub fn seed(&self) -> u64 {
+        self.scene.file.seed
+    }
+
+    /// `<id>_seed<seed>`: names the replica's work folder and its log lines.
+    pub fn label(&self) -> String {
+        format!("{}_seed{}", self.id, self.seed())
+    }
 }
 
 /// An expanded grid.
 #[derive(Clone, Debug)]
 pub struct Grid {
     pub name: String,
-    pub scenes: Vec<GridScene>,
+    /// Every replica of every scene, scenes in grid order, each scene's replicas in the
+    /// order of its seeds.
+    pub runs: Vec<GridRun>,
 }
 
 fn grid_error(message: impl Into<String>) -> SimError {
@@ -153,7 +177,7 @@ impl Grid {
         let per_case: usize = lists.iter().map(|(_, v)| v.len()).product();
         let total = cases.len() * per_case;
         let width = total.saturating_sub(1).to_string().len().max(3);
-        let mut scenes = Vec::with_capacity(total);
+        let mut runs = Vec::with_capacity(total);
         for (c, case) in cases.iter().enumerate() {
             for combo in 0..per_case {
                 let index = c * per_case + combo;
@@ -168,26 +192,52 @@ impl Grid {
                     rest /= values.len();
                 }
                 table.insert("name".into(), Value::String(id.clone()));
-                let scene_file: SceneFile = Value::Table(table)
-                    .try_into()
-                    .map_err(|e| grid_error(format!("scene {id}: {e}")))?;
-                let scene = Scene::from_file(scene_file, strict)
-                    .map_err(|e| grid_error(format!("scene {id}: {e}")))?;
-                scenes.push(GridScene { index, id, scene });
+                if table.contains_key("replicas") {
+                    return Err(grid_error(format!(
+                        "scene {id}: `replicas` is a key of the grid, not of a scene: \
+                         write it at the top of the file, before [scene]"
+                    )));
+                }
+                let seeds = replica_seeds(table.get("seed"), file.replicas)
+                    .map_err(|m| grid_error(format!("scene {id}: {m}")))?;
+                for seed in seeds {
+                    table.insert("seed".into(), Value::Integer(seed as i64));
+                    let scene_file: SceneFile = Value::Table(table.clone())
+                        .try_into()
+                        .map_err(|e| grid_error(format!("scene {id}: {e}")))?;
+                    let scene = Scene::from_file(scene_file, strict)
+                        .map_err(|e| grid_error(format!("scene {id}: {e}")))?;
+                    runs.push(GridRun {
+                        index,
+                        id: id.clone(),
+                        scene,
+                    });
+                }
             }
         }
         Ok(Grid {
             name: file.name,
-            scenes,
+            runs,
         })
     }
 
-    /// The scenes of shard `i` of `n` (0 <= i < n): every n-th scene from the i-th, so that
-    /// the shards are disjoint, cover the grid, and each gets a share of every setting.
-    pub fn shard(&self, i: usize, n: usize) -> Result<Vec<&GridScene>, SimError> {
+    /// Number of scenes (each with one or more runs).
+    pub fn scene_count(&self) -> usize {
+        self.runs.last().map_or(0, |r| r.index + 1)
+    }
+
+    /// The runs of shard `i` of `n` (0 <= i < n): every n-th run from the i-th, so that the
+    /// shards are disjoint, cover the grid, and each gets a share of every setting.
+    pub fn shard(&self, i: usize, n: usize) -> Result<Vec<&GridRun>, SimError> {
         if n == 0 || i >= n {
             return Err(grid_error(format!("shard {i}/{n}: need 0 <= i < n")));
         }
-        Ok(self.scenes.iter().filter(|s| s.index % n == i).collect())
+        Ok(self
+            .runs
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| k % n == i)
+            .map(|(_, r)| r)
+            .collect())
     }
 }

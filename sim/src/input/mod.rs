@@ -1,10 +1,11 @@
-//! What a run starts from: scene files and their validation, grids of scenes, the streaming
-//! flow profile u_inf(y), and the initial random packing.
+//! What a run starts from: scene files and their validation, grids of scenes and their
+//! replicas, the streaming flow profile u_inf(y), and the initial random packing.
 
 pub mod flow_profile;
 pub mod grid;
 pub mod memory_estimate;
 pub mod packing;
 pub mod profile_syntax;
+pub mod replica_seeds;
 pub mod scene;
 pub mod scene_name;

@@ -1,8 +1,14 @@
 //! The dataset's column names, defined once (docs/physics.md section 8): every table of
 //! binned results (`simulate`'s `profile.csv`, `generate`'s datasets, `solve`'s profiles) and
 //! every reader of them (`merge`, `compare`, `plot`, the surrogate's mappings) take the names
-//! from here. A row is one bin of one scene: the scene and bin columns, then each observable
-//! followed by its standard error.
+//! from here. A row is one bin of one run (one replica of a scene, told apart by `seed`): the
+//! scene and bin columns, then each observable followed by its standard error.
+//!
+//! The ensemble table (`<dataset>.ensemble.csv`, written by `generate` and `merge` when a
+//! scene has several replicas) has one row per bin per scene: [`ENSEMBLE_SCENE_AND_BIN`],
+//! then each observable's mean over the replicas followed by its standard error, which is
+//! the between-replica one (sample standard deviation over sqrt(n)) when n >= 2 and the one
+//! run's batch-means error when n = 1, as [`SE_FROM`] says on every row.
 
 /// Scene id (also the grouping key of cross-validation).
 pub const SCENE_ID: &str = "scene_id";
@@ -33,6 +39,20 @@ pub const DELTA_V: &str = "Delta_v";
 pub const F_X: &str = "f_x";
 pub const COUNT: &str = "count";
 
+/// Ensemble table: number of replicas averaged in the row.
+pub const REPLICAS: &str = "replicas";
+/// Ensemble table: the replicas' seeds, separated by spaces.
+pub const SEEDS: &str = "seeds";
+/// Ensemble table: where the row's standard errors come from, [`SE_FROM_REPLICAS`] or
+/// [`SE_FROM_BATCH_MEANS`].
+pub const SE_FROM: &str = "se_from";
+/// [`SE_FROM`] of a scene with n >= 2 replicas: sample standard deviation between the
+/// replicas over sqrt(n).
+pub const SE_FROM_REPLICAS: &str = "replicas";
+/// [`SE_FROM`] of a scene with one replica: that run's batch-means standard error (a lower
+/// bound on the scatter between realisations, see datasets/README.md).
+pub const SE_FROM_BATCH_MEANS: &str = "batch_means";
+
 /// The columns before the observables, in table order.
 pub const SCENE_AND_BIN: [&str; 10] = [
     SCENE_ID,
@@ -47,8 +67,22 @@ pub const SCENE_AND_BIN: [&str; 10] = [
     U_INF,
 ];
 
+/// The columns of the ensemble table before the observables, in table order.
+pub const ENSEMBLE_SCENE_AND_BIN: [&str; 10] = [
+    SCENE_ID,
+    PROFILE,
+    L_Y,
+    PHI,
+    REPLICAS,
+    SEEDS,
+    SE_FROM,
+    CODE_VERSION,
+    Y,
+    U_INF,
+];
+
 /// The columns that hold text rather than numbers.
-pub const TEXT: [&str; 3] = [SCENE_ID, PROFILE, CODE_VERSION];
+pub const TEXT: [&str; 5] = [SCENE_ID, PROFILE, CODE_VERSION, SEEDS, SE_FROM];
 
 /// The observables, in table order; each is followed by its standard error.
 pub const OBSERVABLES: [&str; 11] = [
@@ -67,10 +101,20 @@ pub fn is_standard_error(name: &str) -> bool {
 
 /// The header line of a dataset (without the line break).
 pub fn header() -> String {
-    let mut names: Vec<String> = SCENE_AND_BIN.iter().map(|s| s.to_string()).collect();
+    with_observables(&SCENE_AND_BIN).join(",")
+}
+
+/// The column names of the ensemble table, in order.
+pub fn ensemble_header() -> Vec<String> {
+    with_observables(&ENSEMBLE_SCENE_AND_BIN)
+}
+
+/// `first`, then every observable followed by its standard error.
+fn with_observables(first: &[&str]) -> Vec<String> {
+    let mut names: Vec<String> = first.iter().map(|s| s.to_string()).collect();
     for o in OBSERVABLES {
         names.push(o.to_string());
         names.push(standard_error(o));
     }
-    names.join(",")
+    names
 }

@@ -277,7 +277,7 @@ fn golden_run(scene: &str, golden: &str, dt_limit: &str) {
         "theta = \"interpolated-rms\"",
         "delta_v = \"bin-centre\"",
         "gdot = \"centred\"",
-        "| golden | 8 |",
+        &format!("| {scene} | 8 |"),
     ] {
         assert!(table.contains(option), "no `{option}` in\n{table}");
     }
@@ -494,6 +494,9 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
         "{stderr}"
     );
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn coverage_draws_both_planes_and_tabulates_the_ranges_of_the_data() {
     let dir = temp_dir("coverage");
     std::fs::create_dir_all(&dir).unwrap();

@@ -7,8 +7,9 @@
 //! inhomogeneous-flow dataset against the homogeneous curve at the same volume fraction.
 //!
 //! Two stress conventions are fitted: the box's pair stresslets (contact and lubrication,
-//! as the thesis' LAMMPS runs report), and the bins' `sigma_xy`, which also holds the
-//! one-body drag stresslet, as the datasets do.
+//! as the thesis' LAMMPS runs report), and the bins' `sigma_xy` under the scene's
+//! `[observables] stress` convention (the same pair stresslets by default; with the
+//! one-body drag stresslet under `pairs+drag`, as the shipped datasets were made).
 use crate::jamming_law::{JammingLaw, SEEDS_LAW};
 use crate::local_viscosity::{self, LocalBand};
 use crate::plots::data_and_laws::{self, Points};
@@ -62,7 +63,7 @@ struct FlowPoint {
     seed: u64,
     summary: ShearSummary,
     rheology: ShearRheology,
-    /// `eta_r` of the bins' `sigma_xy` (pairs and drag stresslet): mean over the bins of
+    /// `eta_r` of the bins' `sigma_xy` (the scene's stress convention): mean over the bins of
     /// `-sigma_xy / (eta gdot)`, with its standard error.
     eta_r_bins: (f64, f64),
 }
@@ -74,7 +75,7 @@ const CONVENTIONS: [Convention; 2] = [
     ("pair stresslets (box)", |p| {
         (p.rheology.eta_r.mean, p.rheology.eta_r.se)
     }),
-    ("pairs + drag stresslet (bins)", |p| p.eta_r_bins),
+    ("bins, scene's stress convention", |p| p.eta_r_bins),
 ];
 
 /// A convention's fit to all points, and its standard error from the seeds' separate fits.

@@ -8,6 +8,9 @@ use sim::integrate::simulation::Simulation;
 use sim::Vec3;
 use std::f64::consts::PI;
 
+mod common;
+use common::push_together;
+
 fn scene(extra_forces: &str, extra_run: &str) -> Scene {
     let text = format!(
         "[box]\nl_x = 12\nl_y = 12\nl_z = 12\n[particles]\nphi = 0.3\n[fluid]\nprofile = \"0.1*sin(2*pi*y/L)\"\n\
@@ -95,19 +98,7 @@ fn approaching_spheres_reach_the_squeeze_velocity() {
         let x_j = x_i + Vec3::x() * (a_i + a_j) * (1.0 + 0.5 * xi0);
         let mut s = Simulation::new(&scene, two_particles(x_i, x_j, a_i, a_j)).unwrap();
         let f = 0.05;
-        // Push particle 0 (identity) towards +x, particle 1 towards -x.
-        s.body_force = s
-            .particles
-            .id
-            .iter()
-            .map(|&id| {
-                if id == 0 {
-                    Vec3::x() * f
-                } else {
-                    -Vec3::x() * f
-                }
-            })
-            .collect();
+        push_together(&mut s, f);
         let (first, second) = if s.particles.id[0] == 0 {
             (0, 1)
         } else {

@@ -12,6 +12,9 @@ use sim::integrate::timestep::{damped_spring_limit, TimeStep};
 use sim::Vec3;
 use std::f64::consts::PI;
 
+mod common;
+use common::push_together;
+
 fn scene(forces: &str, run: &str) -> Scene {
     let text = format!(
         "[box]\nl_x = 12\nl_y = 12\nl_z = 12\n[particles]\nphi = 0.3\nradii = [1.0]\n[fluid]\n\
@@ -25,22 +28,6 @@ fn pair(xi: f64) -> Particles {
     let x_i = Vec3::new(3.0, 6.0, 6.0);
     let x_j = x_i + Vec3::x() * 2.0 * (1.0 + 0.5 * xi);
     Particles::at_rest(vec![x_i, x_j], vec![1.0, 1.0], vec![0, 0], 1.0)
-}
-
-/// Pushes the particle of identity 0 along +x and the other along -x with `f`.
-fn push_together(s: &mut Simulation, f: f64) {
-    s.body_force = s
-        .particles
-        .id
-        .iter()
-        .map(|&id| {
-            if id == 0 {
-                Vec3::x() * f
-            } else {
-                -Vec3::x() * f
-            }
-        })
-        .collect();
 }
 
 fn current_gap(s: &Simulation) -> f64 {

@@ -251,6 +251,18 @@ impl Simulation {
             });
     }
 
+    /// Drift, neighbour-list upkeep and the loads at the new positions: the middle of
+    /// both integrators' steps.
+    fn drift_and_reload(&mut self) {
+        let t = self.timers.start();
+        self.drift();
+        self.timers.stop(Stage::Integration, t);
+        if self.list.stale(&self.particles.pos, &self.pbox) {
+            self.rebuild_list();
+        }
+        self.compute_forces();
+    }
+
     /// One step of the scene's integrator, then the blow-up checks.
     pub fn step(&mut self) -> Result<(), SimError> {
         match self.timestep.integrator {
@@ -265,13 +277,7 @@ impl Simulation {
     /// lubrication. The loads a snapshot evaluates afterwards (lubrication at the new
     /// velocities) are the ones the step applied.
     fn implicit_step(&mut self) -> Result<(), SimError> {
-        let t = self.timers.start();
-        self.drift();
-        self.timers.stop(Stage::Integration, t);
-        if self.list.stale(&self.particles.pos, &self.pbox) {
-            self.rebuild_list();
-        }
-        self.compute_forces();
+        self.drift_and_reload();
         let t = self.timers.start();
         let drag = self.field.drag.then_some((self.field.eta, &self.profile));
         let solved = self.dissipation.solve(
@@ -309,12 +315,8 @@ impl Simulation {
     fn verlet_step(&mut self) -> Result<(), SimError> {
         let t = self.timers.start();
         self.half_kick();
-        self.drift();
         self.timers.stop(Stage::Integration, t);
-        if self.list.stale(&self.particles.pos, &self.pbox) {
-            self.rebuild_list();
-        }
-        self.compute_forces();
+        self.drift_and_reload();
         let t = self.timers.start();
         self.half_kick();
         self.step += 1;

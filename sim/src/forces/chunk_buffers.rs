@@ -1,46 +1,56 @@
-//! Per-chunk load buffers of the parallel pair loops (forces and the implicit step's
-//! resistance products): chunk 0 adds straight into the output, chunk k >= 1 into its own
-//! buffer covering particles from its first row on (a half list has j > i), and the
-//! buffers are added in chunk order, so the same chunking always gives the same bits.
+//! Per-chunk buffers of the parallel pair loops (forces, the implicit step's resistance
+//! products and its preconditioner blocks): chunk 0 adds straight into the output, chunk
+//! k >= 1 into its own buffer covering particles from its first row on (a half list has
+//! j > i), and the buffers are added in chunk order, so the same chunking always gives the
+//! same bits.
 use crate::Vec3;
+use std::ops::AddAssign;
 
 /// Buffers of the chunks after the first, reused from call to call (no allocation once
-/// they have grown to size).
-#[derive(Default)]
-pub struct ChunkBuffers {
-    buffers: Vec<(Vec<Vec3>, Vec<Vec3>)>,
+/// they have grown to size). `T` is the per-particle quantity: a load ([`Vec3`]) or a
+/// 3x3 block; its `Default` is zero.
+pub struct ChunkBuffers<T = Vec3> {
+    buffers: Vec<(Vec<T>, Vec<T>)>,
+}
+
+impl<T> Default for ChunkBuffers<T> {
+    fn default() -> Self {
+        ChunkBuffers {
+            buffers: Vec::new(),
+        }
+    }
 }
 
 /// Where one chunk writes: its force-like and torque-like arrays and the index of their
 /// first particle.
-pub type ChunkTarget<'a> = (&'a mut [Vec3], &'a mut [Vec3], usize);
+pub type ChunkTarget<'a, T = Vec3> = (&'a mut [T], &'a mut [T], usize);
 
-impl ChunkBuffers {
+impl<T: Copy + Default + AddAssign + Send + Sync> ChunkBuffers<T> {
     /// One target per chunk of `bounds` (chunk k covers rows `bounds[k]..bounds[k + 1]`):
     /// `first` for chunk 0, zeroed buffers covering `bounds[k]..n` for the others.
     pub fn targets<'a>(
         &'a mut self,
         bounds: &[usize],
         n: usize,
-        first: (&'a mut [Vec3], &'a mut [Vec3]),
-    ) -> Vec<ChunkTarget<'a>> {
+        first: (&'a mut [T], &'a mut [T]),
+    ) -> Vec<ChunkTarget<'a, T>> {
         let chunks = bounds.len() - 1;
         self.buffers.resize_with(chunks - 1, Default::default);
-        let mut targets: Vec<ChunkTarget<'a>> = Vec::with_capacity(chunks);
+        let mut targets: Vec<ChunkTarget<'a, T>> = Vec::with_capacity(chunks);
         targets.push((first.0, first.1, 0));
         for (k, (bf, bt)) in self.buffers.iter_mut().enumerate() {
             let offset = bounds[k + 1];
             bf.clear();
-            bf.resize(n - offset, Vec3::zeros());
+            bf.resize(n - offset, T::default());
             bt.clear();
-            bt.resize(n - offset, Vec3::zeros());
+            bt.resize(n - offset, T::default());
             targets.push((bf.as_mut_slice(), bt.as_mut_slice(), offset));
         }
         targets
     }
 
     /// Adds every buffer into `a` and `b`, particle by particle in chunk order.
-    pub fn reduce_into(&self, bounds: &[usize], a: &mut [Vec3], b: &mut [Vec3]) {
+    pub fn reduce_into(&self, bounds: &[usize], a: &mut [T], b: &mut [T]) {
         use rayon::prelude::*;
         let first = bounds[1];
         let buffers = &self.buffers;

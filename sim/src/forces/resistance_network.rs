@@ -1,11 +1,12 @@
 //! The lubrication resistance of every pair within the cut-off, frozen at one configuration:
 //! the sparse symmetric operator `R` that maps the particles' motion to minus their
 //! lubrication loads (docs/physics.md sections 4 and 5). The implicit step solves with it.
-use crate::forces::chunk_buffers::ChunkBuffers;
+use crate::forces::chunk_buffers::{ChunkBuffers, ChunkTarget};
 use crate::forces::lubrication::PairResistance;
 use crate::Vec3;
 use nalgebra::Matrix3;
 use rayon::prelude::*;
+use std::ops::AddAssign;
 
 /// One pair of the network: particles `i < j`, unit vector `n` from i to j and the
 /// resistance functions at their gap.
@@ -35,6 +36,7 @@ pub struct ResistanceNetwork {
     pub chunks: Vec<Vec<ResistancePair>>,
     pub bounds: Vec<usize>,
     buffers: ChunkBuffers,
+    block_buffers: ChunkBuffers<Matrix3<f64>>,
 }
 
 impl ResistanceNetwork {
@@ -65,43 +67,74 @@ impl ResistanceNetwork {
     pub fn apply(&mut self, motion: &[Vec3], out: &mut [Vec3]) {
         let n = motion.len() / 2;
         let (lin, ang) = motion.split_at(n);
-        let (out_lin, out_ang) = out.split_at_mut(n);
-        out_lin.fill(Vec3::zeros());
-        out_ang.fill(Vec3::zeros());
-        if self.chunks.len() == 1 {
-            add_products(&self.chunks[0], lin, ang, (out_lin, out_ang, 0));
-            return;
-        }
-        let targets = self
-            .buffers
-            .targets(&self.bounds, n, (&mut *out_lin, &mut *out_ang));
-        targets
-            .into_par_iter()
-            .zip(self.chunks.par_iter())
-            .for_each(|(target, pairs)| add_products(pairs, lin, ang, target));
-        self.buffers.reduce_into(&self.bounds, out_lin, out_ang);
+        scatter(
+            &mut self.buffers,
+            &self.chunks,
+            &self.bounds,
+            out.split_at_mut(n),
+            |pairs, target| add_products(pairs, lin, ang, target),
+        );
     }
 
-    /// Adds each particle's own 3x3 blocks of `R` to the blocks `block(row)` of `rows`
-    /// (N translational rows, then N rotational ones): `X11A N + Y11A T` for translation,
-    /// `Y11C T` (or `Y22C T` for the second particle of a pair) for rotation.
-    pub fn add_diagonal_blocks<T>(
-        &self,
-        rows: &mut [T],
-        n: usize,
-        block: impl Fn(&mut T) -> &mut Matrix3<f64>,
+    /// Sets `translation[i]` and `rotation[i]` to particle i's own 3x3 blocks of `R`:
+    /// `X11A N + Y11A T` for translation, `Y11C T` (or `Y22C T` for the second particle of
+    /// a pair) for rotation, summed over its pairs.
+    pub fn diagonal_blocks(
+        &mut self,
+        translation: &mut [Matrix3<f64>],
+        rotation: &mut [Matrix3<f64>],
     ) {
-        for p in self.chunks.iter().flatten() {
-            let (i, j) = (p.i as usize, p.j as usize);
-            let nn = p.n * p.n.transpose();
-            let t = Matrix3::identity() - nn;
-            let r = &p.resistance;
-            let translation = nn * r.x11a + t * r.y11a;
-            *block(&mut rows[i]) += translation;
-            *block(&mut rows[j]) += translation;
-            *block(&mut rows[n + i]) += t * r.y11c;
-            *block(&mut rows[n + j]) += t * r.y22c;
-        }
+        scatter(
+            &mut self.block_buffers,
+            &self.chunks,
+            &self.bounds,
+            (translation, rotation),
+            add_blocks,
+        );
+    }
+}
+
+/// Zeroes `out` and adds `per_chunk(pairs, target)` for every chunk of pairs: chunk 0 into
+/// `out`, the others (in parallel) into their buffers, which are then added in chunk order.
+fn scatter<T: Copy + Default + AddAssign + Send + Sync>(
+    buffers: &mut ChunkBuffers<T>,
+    chunks: &[Vec<ResistancePair>],
+    bounds: &[usize],
+    out: (&mut [T], &mut [T]),
+    per_chunk: impl Fn(&[ResistancePair], ChunkTarget<T>) + Sync,
+) {
+    let (a, b) = out;
+    a.fill(T::default());
+    b.fill(T::default());
+    if chunks.len() == 1 {
+        per_chunk(&chunks[0], (a, b, 0));
+        return;
+    }
+    let n = a.len();
+    let targets = buffers.targets(bounds, n, (&mut *a, &mut *b));
+    targets
+        .into_par_iter()
+        .zip(chunks.par_iter())
+        .for_each(|(target, pairs)| per_chunk(pairs, target));
+    buffers.reduce_into(bounds, a, b);
+}
+
+/// Adds each pair's diagonal blocks of `R` (see [`ResistanceNetwork::diagonal_blocks`])
+/// into `target`, which holds particles from its offset on.
+fn add_blocks(
+    pairs: &[ResistancePair],
+    (translation, rotation, offset): ChunkTarget<Matrix3<f64>>,
+) {
+    for p in pairs {
+        let (i, j) = (p.i as usize - offset, p.j as usize - offset);
+        let nn = p.n * p.n.transpose();
+        let t = Matrix3::identity() - nn;
+        let r = &p.resistance;
+        let block = nn * r.x11a + t * r.y11a;
+        translation[i] += block;
+        translation[j] += block;
+        rotation[i] += t * r.y11c;
+        rotation[j] += t * r.y22c;
     }
 }
 
@@ -111,7 +144,7 @@ fn add_products(
     pairs: &[ResistancePair],
     lin: &[Vec3],
     ang: &[Vec3],
-    (out_lin, out_ang, offset): (&mut [Vec3], &mut [Vec3], usize),
+    (out_lin, out_ang, offset): ChunkTarget,
 ) {
     for p in pairs {
         let load = p.load(lin, ang);

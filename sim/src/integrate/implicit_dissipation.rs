@@ -20,6 +20,9 @@ use rayon::prelude::*;
 /// chunk by chunk and added in chunk order, so they do not depend on the thread count.
 const ROW_CHUNK: usize = 1024;
 
+/// One chunk of the rows with their direction and product entries.
+type RowChunk<'a> = (&'a mut [Row], (&'a mut [Vec3], &'a mut [Vec3]));
+
 /// Outcome of one solve.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SolveStats {
@@ -72,6 +75,8 @@ pub struct ImplicitDissipation {
     rows: Vec<Row>,
     direction: Vec<Vec3>,
     product: Vec<Vec3>,
+    /// Each row's 3x3 block of `R` (the pairs' share of its preconditioner).
+    blocks: Vec<Matrix3<f64>>,
     partial_sums: Vec<(f64, f64)>,
 }
 
@@ -88,20 +93,12 @@ impl ImplicitDissipation {
         settings: SolveSettings,
     ) -> Result<SolveStats, SolveFailure> {
         let n = p.len();
-        self.prepare(p, network, drag, dt);
+        let b_norm = self.prepare(p, network, drag, dt).sqrt();
         let mut stats = SolveStats::default();
-        // Start: the product of the warm start, then r = b - A x, z = P r, d = z.
-        for (d, row) in self.direction.iter_mut().zip(&self.rows) {
-            *d = row.x;
-        }
+        // Start: the product of the warm start (d = x after `prepare`), then r = b - A x,
+        // z = P r, d = z.
         network.apply(&self.direction, &mut self.product);
-        let b_norm = self
-            .rows
-            .iter()
-            .map(|row| row.b.norm_squared())
-            .sum::<f64>()
-            .sqrt();
-        let mut rz = self.sweep(|row, d, q| {
+        let mut rz = self.sweep(|_, row, d, q| {
             let ax = *q * dt + row.x * row.diagonal;
             row.r = row.b - ax;
             row.z = row.preconditioner * row.r;
@@ -124,12 +121,12 @@ impl ImplicitDissipation {
                 return Err(SolveFailure { stats, particle });
             }
             network.apply(&self.direction, &mut self.product);
-            let dq = self.sweep(|row, d, q| {
+            let dq = self.sweep(|_, row, d, q| {
                 *q = *q * dt + *d * row.diagonal;
                 (d.dot(q), 0.0)
             });
             let alpha = rz.0 / dq.0;
-            let next = self.sweep(|row, d, q| {
+            let next = self.sweep(|_, row, d, q| {
                 row.x += *d * alpha;
                 row.r -= *q * alpha;
                 row.z = row.preconditioner * row.r;
@@ -137,7 +134,7 @@ impl ImplicitDissipation {
             });
             let beta = next.0 / rz.0;
             rz = next;
-            self.sweep(|row, d, _| {
+            self.sweep(|_, row, d, _| {
                 *d = row.z + *d * beta;
                 (0.0, 0.0)
             });
@@ -149,16 +146,17 @@ impl ImplicitDissipation {
         Ok(stats)
     }
 
-    /// Applies `f(row, direction, product)` to every row, in parallel chunks when the
-    /// system is large enough, and returns the sums of its two outputs in chunk order.
+    /// Applies `f(index, row, direction, product)` to every row, in parallel chunks when
+    /// the system is large enough, and returns the sums of its two outputs in chunk order.
     fn sweep(
         &mut self,
-        f: impl Fn(&mut Row, &mut Vec3, &mut Vec3) -> (f64, f64) + Sync + Send,
+        f: impl Fn(usize, &mut Row, &mut Vec3, &mut Vec3) -> (f64, f64) + Sync + Send,
     ) -> (f64, f64) {
-        let chunk = |(rows, (d, q)): (&mut [Row], (&mut [Vec3], &mut [Vec3]))| {
+        let chunk = |(k, (rows, (d, q))): (usize, RowChunk)| {
             let mut s = (0.0, 0.0);
-            for (row, (d, q)) in rows.iter_mut().zip(d.iter_mut().zip(q.iter_mut())) {
-                let (a, b) = f(row, d, q);
+            let rows = rows.iter_mut().zip(d.iter_mut().zip(q.iter_mut()));
+            for (r, (row, (d, q))) in rows.enumerate() {
+                let (a, b) = f(k * ROW_CHUNK + r, row, d, q);
                 s.0 += a;
                 s.1 += b;
             }
@@ -171,7 +169,7 @@ impl ImplicitDissipation {
                     .chunks_mut(ROW_CHUNK)
                     .zip(self.product.chunks_mut(ROW_CHUNK)),
             );
-            self.partial_sums.extend(chunks.map(chunk));
+            self.partial_sums.extend(chunks.enumerate().map(chunk));
         } else {
             self.rows
                 .par_chunks_mut(ROW_CHUNK)
@@ -180,6 +178,7 @@ impl ImplicitDissipation {
                         .par_chunks_mut(ROW_CHUNK)
                         .zip(self.product.par_chunks_mut(ROW_CHUNK)),
                 )
+                .enumerate()
                 .map(chunk)
                 .collect_into_vec(&mut self.partial_sums);
         }
@@ -189,48 +188,53 @@ impl ImplicitDissipation {
     }
 
     /// Sizes the work arrays and fills each row's right-hand side, diagonal, block
-    /// preconditioner and warm start `x = V`.
+    /// preconditioner `(diagonal + dt R_block)^-1` and warm start `x = V` (also in the
+    /// direction array); returns `|b|^2`.
     fn prepare(
         &mut self,
         p: &Particles,
-        network: &ResistanceNetwork,
+        network: &mut ResistanceNetwork,
         drag: Option<(f64, &FlowProfile)>,
         dt: f64,
-    ) {
+    ) -> f64 {
         let n = p.len();
         self.rows.resize(2 * n, Row::default());
         self.direction.resize(2 * n, Vec3::zeros());
         self.product.resize(2 * n, Vec3::zeros());
-        let inv_dt = 1.0 / dt;
-        let (lin, ang) = self.rows.split_at_mut(n);
-        for (i, (tr, rot)) in lin.iter_mut().zip(ang.iter_mut()).enumerate() {
-            let (m, inertia) = (p.mass[i], p.inertia(i));
-            tr.x = p.vel[i];
-            rot.x = p.omega[i];
-            tr.b = p.vel[i] * m + p.force[i] * dt;
-            rot.b = p.omega[i] * inertia + p.torque[i] * dt;
-            (tr.diagonal, rot.diagonal) = (m, inertia);
+        self.blocks.resize(2 * n, Matrix3::zeros());
+        let (translation, rotation) = self.blocks.split_at_mut(n);
+        network.diagonal_blocks(translation, rotation);
+        let blocks = std::mem::take(&mut self.blocks);
+        let b_squared = self.sweep(|k, row, d, _| {
+            let (i, rotational) = (k % n, k >= n);
+            let (v, load, mass) = if rotational {
+                (p.omega[i], p.torque[i], p.inertia(i))
+            } else {
+                (p.vel[i], p.force[i], p.mass[i])
+            };
+            row.x = v;
+            *d = v;
+            row.b = v * mass + load * dt;
+            row.diagonal = mass;
             if let Some((eta, profile)) = drag {
                 let a = p.radius[i];
                 let (u, du_dy) = profile.u_and_slope(p.pos[i].y);
                 // The drag load at rest is the inflow term `D V_inf`.
-                tr.b += drag::force(eta, a, u, &Vec3::zeros()) * dt;
-                rot.b += drag::torque(eta, a, du_dy, &Vec3::zeros()) * dt;
-                tr.diagonal += dt * drag::translational_resistance(eta, a);
-                rot.diagonal += dt * drag::rotational_resistance(eta, a);
+                if rotational {
+                    row.b += drag::torque(eta, a, du_dy, &Vec3::zeros()) * dt;
+                    row.diagonal += dt * drag::rotational_resistance(eta, a);
+                } else {
+                    row.b += drag::force(eta, a, u, &Vec3::zeros()) * dt;
+                    row.diagonal += dt * drag::translational_resistance(eta, a);
+                }
             }
-            // The blocks are assembled as (A / dt) and inverted below.
-            tr.preconditioner = Matrix3::identity() * (tr.diagonal * inv_dt);
-            rot.preconditioner = Matrix3::identity() * (rot.diagonal * inv_dt);
-        }
-        network.add_diagonal_blocks(&mut self.rows, n, |row| &mut row.preconditioner);
-        for row in &mut self.rows {
             // Symmetric positive definite (its diagonal part alone is), so invertible.
-            row.preconditioner = row
-                .preconditioner
+            row.preconditioner = (Matrix3::identity() * row.diagonal + blocks[k] * dt)
                 .try_inverse()
-                .unwrap_or_else(Matrix3::zeros)
-                * inv_dt;
-        }
+                .unwrap_or_else(Matrix3::zeros);
+            (row.b.norm_squared(), 0.0)
+        });
+        self.blocks = blocks;
+        b_squared.0
     }
 }

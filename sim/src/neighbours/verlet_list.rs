@@ -4,6 +4,10 @@
 use crate::integrate::periodic_box::PeriodicBox;
 use crate::neighbours::cell_list::CellList;
 use crate::Vec3;
+use rayon::prelude::*;
+
+/// Particles per chunk of the parallel build.
+const BUILD_CHUNK: usize = 512;
 
 /// Neighbour pairs in compressed-row form: the neighbours of i are
 /// `neighbours[start[i]..start[i+1]]`, all greater than i and in increasing order.
@@ -27,25 +31,42 @@ impl VerletList {
         pbox: &PeriodicBox,
         cells: &CellList,
         skin: f64,
-        cutoff: impl Fn(usize, usize) -> f64,
+        cutoff: impl Fn(usize, usize) -> f64 + Sync,
     ) -> Self {
         let n = positions.len();
-        let mut start = Vec::with_capacity(n + 1);
-        let mut neighbours = Vec::with_capacity(8 * n);
-        start.push(0);
-        for (i, x_i) in positions.iter().enumerate() {
-            let row = neighbours.len();
-            cells.for_each_near(x_i, |j| {
-                let ju = j as usize;
-                if ju > i {
-                    let reach = cutoff(i, ju) + skin;
-                    if pbox.separation(x_i, &positions[ju]).norm_squared() < reach * reach {
-                        neighbours.push(j);
-                    }
+        // Rows are found in parallel chunks and concatenated in order: the list does not
+        // depend on the thread count.
+        let chunks: Vec<(Vec<usize>, Vec<u32>)> = positions
+            .par_chunks(BUILD_CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| {
+                let mut row_ends = Vec::with_capacity(chunk.len());
+                let mut found = Vec::with_capacity(8 * chunk.len());
+                for (r, x_i) in chunk.iter().enumerate() {
+                    let i = c * BUILD_CHUNK + r;
+                    let row = found.len();
+                    cells.for_each_near(x_i, |j| {
+                        let ju = j as usize;
+                        if ju > i {
+                            let reach = cutoff(i, ju) + skin;
+                            if pbox.separation(x_i, &positions[ju]).norm_squared() < reach * reach {
+                                found.push(j);
+                            }
+                        }
+                    });
+                    found[row..].sort_unstable();
+                    row_ends.push(found.len());
                 }
-            });
-            neighbours[row..].sort_unstable();
-            start.push(neighbours.len());
+                (row_ends, found)
+            })
+            .collect();
+        let mut start = Vec::with_capacity(n + 1);
+        let mut neighbours = Vec::with_capacity(chunks.iter().map(|c| c.1.len()).sum());
+        start.push(0);
+        for (row_ends, found) in &chunks {
+            let offset = neighbours.len();
+            start.extend(row_ends.iter().map(|end| offset + end));
+            neighbours.extend_from_slice(found);
         }
         Self {
             start,
@@ -71,8 +92,9 @@ impl VerletList {
         }
         let limit = allowed * allowed;
         positions
-            .iter()
+            .par_iter()
             .zip(&self.reference)
+            .with_min_len(BUILD_CHUNK)
             .any(|(x, r)| pbox.separation(r, x).norm_squared() > limit)
     }
 

@@ -27,7 +27,9 @@ pub type ChunkTarget<'a, T = Vec3> = (&'a mut [T], &'a mut [T], usize);
 
 impl<T: Copy + Default + AddAssign + Send + Sync> ChunkBuffers<T> {
     /// One target per chunk of `bounds` (chunk k covers rows `bounds[k]..bounds[k + 1]`):
-    /// `first` for chunk 0, zeroed buffers covering `bounds[k]..n` for the others.
+    /// `first` for chunk 0, buffers covering `bounds[k]..n` for the others. The buffers
+    /// hold the last call's values: each chunk zeroes its own with [`zero_buffer`], in
+    /// its parallel task.
     pub fn targets<'a>(
         &'a mut self,
         bounds: &[usize],
@@ -40,9 +42,7 @@ impl<T: Copy + Default + AddAssign + Send + Sync> ChunkBuffers<T> {
         targets.push((first.0, first.1, 0));
         for (k, (bf, bt)) in self.buffers.iter_mut().enumerate() {
             let offset = bounds[k + 1];
-            bf.clear();
             bf.resize(n - offset, T::default());
-            bt.clear();
             bt.resize(n - offset, T::default());
             targets.push((bf.as_mut_slice(), bt.as_mut_slice(), offset));
         }
@@ -70,5 +70,14 @@ impl<T: Copy + Default + AddAssign + Send + Sync> ChunkBuffers<T> {
                     *t += bt[i - offset];
                 }
             });
+    }
+}
+
+/// Zeroes `target` if it is a chunk's buffer (offset > 0); chunk 0's target, the output
+/// itself, keeps what the caller put there.
+pub fn zero_buffer<T: Copy + Default>(target: &mut ChunkTarget<'_, T>) {
+    if target.2 > 0 {
+        target.0.fill(T::default());
+        target.1.fill(T::default());
     }
 }

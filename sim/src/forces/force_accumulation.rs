@@ -1,7 +1,7 @@
 //! Sums pair and one-body loads into every particle's force and torque, in parallel over
 //! contiguous chunks of the half neighbour list, with a fixed chunking so that the same
 //! thread count always gives the same bits (docs/physics.md section 3).
-use crate::forces::chunk_buffers::{ChunkBuffers, ChunkTarget};
+use crate::forces::chunk_buffers::{zero_buffer, ChunkBuffers, ChunkTarget};
 use crate::forces::force_field::ForceField;
 use crate::forces::resistance_network::{ResistanceNetwork, ResistancePair};
 use crate::input::flow_profile::FlowProfile;
@@ -169,7 +169,8 @@ impl ForceAccumulator {
                 .zip(spring_parts.into_par_iter())
                 .zip(records.into_par_iter())
                 .enumerate()
-                .map(|(k, ((target, part), record))| {
+                .map(|(k, ((mut target, part), record))| {
+                    zero_buffer(&mut target);
                     let mut s = ContactStats::default();
                     pair_range(
                         field,

@@ -1,7 +1,7 @@
 //! The lubrication resistance of every pair within the cut-off, frozen at one configuration:
 //! the sparse symmetric operator `R` that maps the particles' motion to minus their
 //! lubrication loads (docs/physics.md sections 4 and 5). The implicit step solves with it.
-use crate::forces::chunk_buffers::{ChunkBuffers, ChunkTarget};
+use crate::forces::chunk_buffers::{zero_buffer, ChunkBuffers, ChunkTarget};
 use crate::forces::lubrication::PairResistance;
 use crate::Vec3;
 use nalgebra::Matrix3;
@@ -61,8 +61,8 @@ impl ResistanceNetwork {
         self.len() == 0
     }
 
-    /// `out = R motion` for a motion of 2N rows (N translational velocities, then N
-    /// spins): minus the lubrication forces and torques that motion would meet (3.13,
+    /// Adds `R motion` to `out`, for a motion of 2N rows (N translational velocities, then
+    /// N spins): minus the lubrication forces and torques that motion would meet (3.13,
     /// 3.14).
     pub fn apply(&mut self, motion: &[Vec3], out: &mut [Vec3]) {
         let n = motion.len() / 2;
@@ -76,7 +76,7 @@ impl ResistanceNetwork {
         );
     }
 
-    /// Sets `translation[i]` and `rotation[i]` to particle i's own 3x3 blocks of `R`:
+    /// Adds to `translation[i]` and `rotation[i]` particle i's own 3x3 blocks of `R`:
     /// `X11A N + Y11A T` for translation, `Y11C T` (or `Y22C T` for the second particle of
     /// a pair) for rotation, summed over its pairs.
     pub fn diagonal_blocks(
@@ -94,8 +94,8 @@ impl ResistanceNetwork {
     }
 }
 
-/// Zeroes `out` and adds `per_chunk(pairs, target)` for every chunk of pairs: chunk 0 into
-/// `out`, the others (in parallel) into their buffers, which are then added in chunk order.
+/// Adds `per_chunk(pairs, target)` for every chunk of pairs to `out`: chunk 0 straight,
+/// the others (in parallel) through their buffers, added in chunk order.
 fn scatter<T: Copy + Default + AddAssign + Send + Sync>(
     buffers: &mut ChunkBuffers<T>,
     chunks: &[Vec<ResistancePair>],
@@ -104,8 +104,6 @@ fn scatter<T: Copy + Default + AddAssign + Send + Sync>(
     per_chunk: impl Fn(&[ResistancePair], ChunkTarget<T>) + Sync,
 ) {
     let (a, b) = out;
-    a.fill(T::default());
-    b.fill(T::default());
     if chunks.len() == 1 {
         per_chunk(&chunks[0], (a, b, 0));
         return;
@@ -115,7 +113,10 @@ fn scatter<T: Copy + Default + AddAssign + Send + Sync>(
     targets
         .into_par_iter()
         .zip(chunks.par_iter())
-        .for_each(|(target, pairs)| per_chunk(pairs, target));
+        .for_each(|(mut target, pairs)| {
+            zero_buffer(&mut target);
+            per_chunk(pairs, target)
+        });
     buffers.reduce_into(bounds, a, b);
 }
 

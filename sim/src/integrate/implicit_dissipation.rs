@@ -7,6 +7,12 @@
 //! particle and `R` the lubrication resistance of every pair (3.8-3.18). `M + dt (D + R)`
 //! is symmetric positive definite, so the solve is preconditioned conjugate gradients
 //! (each particle's own 3x3 blocks inverted), warm-started from `V`.
+//!
+//! The product `A d` of the search direction is carried by recurrence: with `z` the
+//! preconditioned residual, `d' = z + beta d` gives `A d' = A z + beta A d`, so each
+//! iteration takes one product of the network (`R z`) and two sweeps over the rows, the
+//! least the two scalar products of conjugate gradients allow. The work arrays are kept
+//! one per quantity, so a sweep streams only the arrays it uses.
 use crate::forces::drag;
 use crate::forces::force_accumulation::PARALLEL_MIN_PARTICLES;
 use crate::forces::resistance_network::ResistanceNetwork;
@@ -16,12 +22,29 @@ use crate::Vec3;
 use nalgebra::Matrix3;
 use rayon::prelude::*;
 
-/// Rows per chunk of the vector operations. Partial sums of the dot products are taken
-/// chunk by chunk and added in chunk order, so they do not depend on the thread count.
+/// Rows per chunk of the sweeps. Partial sums of the dot products are taken chunk by chunk
+/// and added in chunk order, so they do not depend on the thread count.
 const ROW_CHUNK: usize = 1024;
 
-/// One chunk of the rows with their direction and product entries.
-type RowChunk<'a> = (&'a mut [Row], (&'a mut [Vec3], &'a mut [Vec3]));
+/// One row's entries in every work array (a row is one particle's translation or rotation).
+struct RowMut<'a> {
+    /// Current solution.
+    x: &'a mut Vec3,
+    /// Residual `b - A x` (the right-hand side `b` before the first sweep).
+    r: &'a mut Vec3,
+    /// Preconditioned residual `P r`.
+    z: &'a mut Vec3,
+    /// Search direction.
+    d: &'a mut Vec3,
+    /// `A d`.
+    q: &'a mut Vec3,
+    /// The network's product (`R x`, then `R z`), zeroed once used.
+    w: &'a mut Vec3,
+    /// `m + dt 6 pi eta a` (translation) or `I + dt 8 pi eta a^3` (rotation).
+    diagonal: &'a mut f64,
+    /// The row's 3x3 block of `R` until the first sweep inverts the block of `A` in place.
+    preconditioner: &'a mut Matrix3<f64>,
+}
 
 /// Outcome of one solve.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -49,34 +72,18 @@ pub struct SolveSettings {
     pub max_iterations: usize,
 }
 
-/// The conjugate-gradient state of one row of the system (one particle's translation or
-/// rotation).
-#[derive(Clone, Copy, Debug, Default)]
-struct Row {
-    /// Current solution.
-    x: Vec3,
-    /// Residual `b - A x`.
-    r: Vec3,
-    /// Preconditioned residual.
-    z: Vec3,
-    /// Right-hand side.
-    b: Vec3,
-    /// `m + dt 6 pi eta a` (translation) or `I + dt 8 pi eta a^3` (rotation).
-    diagonal: f64,
-    /// Inverse of the row's 3x3 block of the system matrix.
-    preconditioner: Matrix3<f64>,
-}
-
-/// Work arrays of the solve, reused every step: the N translational rows, then the N
-/// rotational ones. The search direction and its product are kept apart, contiguous, as
-/// the input and output of the resistance product.
+/// Work arrays of the solve, reused every step, 2N rows each: the N translational rows,
+/// then the N rotational ones (see [`RowMut`] for what each holds).
 #[derive(Default)]
 pub struct ImplicitDissipation {
-    rows: Vec<Row>,
-    direction: Vec<Vec3>,
-    product: Vec<Vec3>,
-    /// Each row's 3x3 block of `R` (the pairs' share of its preconditioner).
-    blocks: Vec<Matrix3<f64>>,
+    x: Vec<Vec3>,
+    r: Vec<Vec3>,
+    z: Vec<Vec3>,
+    d: Vec<Vec3>,
+    q: Vec<Vec3>,
+    w: Vec<Vec3>,
+    diagonal: Vec<f64>,
+    preconditioner: Vec<Matrix3<f64>>,
     partial_sums: Vec<(f64, f64)>,
 }
 
@@ -95,16 +102,18 @@ impl ImplicitDissipation {
         let n = p.len();
         let b_norm = self.prepare(p, network, drag, dt).sqrt();
         let mut stats = SolveStats::default();
-        // Start: the product of the warm start (d = x after `prepare`), then r = b - A x,
-        // z = P r, d = z.
-        network.apply(&self.direction, &mut self.product);
-        let mut rz = self.sweep(|_, row, d, q| {
-            let ax = *q * dt + row.x * row.diagonal;
-            row.r = row.b - ax;
-            row.z = row.preconditioner * row.r;
-            *d = row.z;
-            (row.r.dot(&row.z), row.r.norm_squared())
+        // Start: invert the preconditioner blocks, r = b - A x, z = P r.
+        network.apply(&self.x, &mut self.w);
+        let mut rz = self.sweep(|_, row| {
+            *row.preconditioner = (Matrix3::identity() * *row.diagonal + *row.preconditioner * dt)
+                .try_inverse()
+                .unwrap_or_else(Matrix3::zeros);
+            *row.r -= *row.w * dt + *row.x * *row.diagonal;
+            *row.w = Vec3::zeros();
+            *row.z = *row.preconditioner * *row.r;
+            (row.r.dot(row.z), row.r.norm_squared())
         });
+        let mut rz_last = 0.0;
         loop {
             stats.residual = if b_norm > 0.0 {
                 rz.1.sqrt() / b_norm
@@ -116,80 +125,86 @@ impl ImplicitDissipation {
             }
             if !stats.residual.is_finite() || stats.iterations >= settings.max_iterations {
                 let particle = (0..2 * n)
-                    .max_by(|&a, &c| self.rows[a].r.norm().total_cmp(&self.rows[c].r.norm()))
+                    .max_by(|&a, &c| self.r[a].norm().total_cmp(&self.r[c].norm()))
                     .map_or(0, |row| row % n.max(1));
                 return Err(SolveFailure { stats, particle });
             }
-            network.apply(&self.direction, &mut self.product);
-            let dq = self.sweep(|_, row, d, q| {
-                *q = *q * dt + *d * row.diagonal;
-                (d.dot(q), 0.0)
+            // d = z + beta d and A d = A z + beta A d (d = z on the first iteration).
+            network.apply(&self.z, &mut self.w);
+            let beta = (stats.iterations > 0).then(|| rz.0 / rz_last);
+            let dq = self.sweep(|_, row| {
+                let az = *row.w * dt + *row.z * *row.diagonal;
+                *row.w = Vec3::zeros();
+                (*row.d, *row.q) = match beta {
+                    Some(beta) => (*row.z + *row.d * beta, az + *row.q * beta),
+                    None => (*row.z, az),
+                };
+                (row.d.dot(row.q), 0.0)
             });
             let alpha = rz.0 / dq.0;
-            let next = self.sweep(|_, row, d, q| {
-                row.x += *d * alpha;
-                row.r -= *q * alpha;
-                row.z = row.preconditioner * row.r;
-                (row.r.dot(&row.z), row.r.norm_squared())
+            let next = self.sweep(|_, row| {
+                *row.x += *row.d * alpha;
+                *row.r -= *row.q * alpha;
+                *row.z = *row.preconditioner * *row.r;
+                (row.r.dot(row.z), row.r.norm_squared())
             });
-            let beta = next.0 / rz.0;
+            rz_last = rz.0;
             rz = next;
-            self.sweep(|_, row, d, _| {
-                *d = row.z + *d * beta;
-                (0.0, 0.0)
-            });
             stats.iterations += 1;
         }
-        for (i, (v, w)) in p.vel.iter_mut().zip(p.omega.iter_mut()).enumerate() {
-            (*v, *w) = (self.rows[i].x, self.rows[n + i].x);
-        }
+        p.vel.copy_from_slice(&self.x[..n]);
+        p.omega.copy_from_slice(&self.x[n..]);
         Ok(stats)
     }
 
-    /// Applies `f(index, row, direction, product)` to every row, in parallel chunks when
-    /// the system is large enough, and returns the sums of its two outputs in chunk order.
-    fn sweep(
-        &mut self,
-        f: impl Fn(usize, &mut Row, &mut Vec3, &mut Vec3) -> (f64, f64) + Sync + Send,
-    ) -> (f64, f64) {
-        let chunk = |(k, (rows, (d, q))): (usize, RowChunk)| {
-            let mut s = (0.0, 0.0);
-            let rows = rows.iter_mut().zip(d.iter_mut().zip(q.iter_mut()));
-            for (r, (row, (d, q))) in rows.enumerate() {
-                let (a, b) = f(k * ROW_CHUNK + r, row, d, q);
-                s.0 += a;
-                s.1 += b;
-            }
-            s
-        };
-        self.partial_sums.clear();
-        if self.rows.len() < 2 * PARALLEL_MIN_PARTICLES {
-            let chunks = self.rows.chunks_mut(ROW_CHUNK).zip(
-                self.direction
-                    .chunks_mut(ROW_CHUNK)
-                    .zip(self.product.chunks_mut(ROW_CHUNK)),
-            );
-            self.partial_sums.extend(chunks.enumerate().map(chunk));
+    /// Applies `f(index, row)` to every row, in parallel chunks when the system is large
+    /// enough, and returns the sums of its two outputs in chunk order.
+    fn sweep(&mut self, f: impl Fn(usize, RowMut) -> (f64, f64) + Sync + Send) -> (f64, f64) {
+        let min_chunks = if self.x.len() < 2 * PARALLEL_MIN_PARTICLES {
+            usize::MAX
         } else {
-            self.rows
-                .par_chunks_mut(ROW_CHUNK)
-                .zip(
-                    self.direction
-                        .par_chunks_mut(ROW_CHUNK)
-                        .zip(self.product.par_chunks_mut(ROW_CHUNK)),
-                )
-                .enumerate()
-                .map(chunk)
-                .collect_into_vec(&mut self.partial_sums);
-        }
+            1
+        };
+        (
+            self.x.par_chunks_mut(ROW_CHUNK),
+            self.r.par_chunks_mut(ROW_CHUNK),
+            self.z.par_chunks_mut(ROW_CHUNK),
+            self.d.par_chunks_mut(ROW_CHUNK),
+            self.q.par_chunks_mut(ROW_CHUNK),
+            self.w.par_chunks_mut(ROW_CHUNK),
+            self.diagonal.par_chunks_mut(ROW_CHUNK),
+            self.preconditioner.par_chunks_mut(ROW_CHUNK),
+        )
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(min_chunks)
+            .map(|(k, (x, r, z, d, q, w, diagonal, preconditioner))| {
+                let mut sums = (0.0, 0.0);
+                for i in 0..x.len() {
+                    let row = RowMut {
+                        x: &mut x[i],
+                        r: &mut r[i],
+                        z: &mut z[i],
+                        d: &mut d[i],
+                        q: &mut q[i],
+                        w: &mut w[i],
+                        diagonal: &mut diagonal[i],
+                        preconditioner: &mut preconditioner[i],
+                    };
+                    let (a, b) = f(k * ROW_CHUNK + i, row);
+                    sums.0 += a;
+                    sums.1 += b;
+                }
+                sums
+            })
+            .collect_into_vec(&mut self.partial_sums);
         self.partial_sums
             .iter()
             .fold((0.0, 0.0), |s, p| (s.0 + p.0, s.1 + p.1))
     }
 
-    /// Sizes the work arrays and fills each row's right-hand side, diagonal, block
-    /// preconditioner `(diagonal + dt R_block)^-1` and warm start `x = V` (also in the
-    /// direction array); returns `|b|^2`.
+    /// Sizes the work arrays and fills each row's warm start `x = V`, right-hand side (in
+    /// `r`), diagonal and its block of `R` (in `preconditioner`); returns `|b|^2`.
     fn prepare(
         &mut self,
         p: &Particles,
@@ -198,43 +213,46 @@ impl ImplicitDissipation {
         dt: f64,
     ) -> f64 {
         let n = p.len();
-        self.rows.resize(2 * n, Row::default());
-        self.direction.resize(2 * n, Vec3::zeros());
-        self.product.resize(2 * n, Vec3::zeros());
-        self.blocks.resize(2 * n, Matrix3::zeros());
-        let (translation, rotation) = self.blocks.split_at_mut(n);
-        network.diagonal_blocks(translation, rotation);
-        let blocks = std::mem::take(&mut self.blocks);
-        let b_squared = self.sweep(|k, row, d, _| {
+        for v in [
+            &mut self.x,
+            &mut self.r,
+            &mut self.z,
+            &mut self.d,
+            &mut self.q,
+            &mut self.w,
+        ] {
+            v.resize(2 * n, Vec3::zeros());
+        }
+        self.diagonal.resize(2 * n, 0.0);
+        self.preconditioner.resize(2 * n, Matrix3::zeros());
+        let b_squared = self.sweep(|k, row| {
             let (i, rotational) = (k % n, k >= n);
             let (v, load, mass) = if rotational {
                 (p.omega[i], p.torque[i], p.inertia(i))
             } else {
                 (p.vel[i], p.force[i], p.mass[i])
             };
-            row.x = v;
-            *d = v;
-            row.b = v * mass + load * dt;
-            row.diagonal = mass;
+            *row.x = v;
+            *row.r = v * mass + load * dt;
+            *row.diagonal = mass;
             if let Some((eta, profile)) = drag {
                 let a = p.radius[i];
                 let (u, du_dy) = profile.u_and_slope(p.pos[i].y);
                 // The drag load at rest is the inflow term `D V_inf`.
                 if rotational {
-                    row.b += drag::torque(eta, a, du_dy, &Vec3::zeros()) * dt;
-                    row.diagonal += dt * drag::rotational_resistance(eta, a);
+                    *row.r += drag::torque(eta, a, du_dy, &Vec3::zeros()) * dt;
+                    *row.diagonal += dt * drag::rotational_resistance(eta, a);
                 } else {
-                    row.b += drag::force(eta, a, u, &Vec3::zeros()) * dt;
-                    row.diagonal += dt * drag::translational_resistance(eta, a);
+                    *row.r += drag::force(eta, a, u, &Vec3::zeros()) * dt;
+                    *row.diagonal += dt * drag::translational_resistance(eta, a);
                 }
             }
-            // Symmetric positive definite (its diagonal part alone is), so invertible.
-            row.preconditioner = (Matrix3::identity() * row.diagonal + blocks[k] * dt)
-                .try_inverse()
-                .unwrap_or_else(Matrix3::zeros);
-            (row.b.norm_squared(), 0.0)
+            *row.w = Vec3::zeros();
+            *row.preconditioner = Matrix3::zeros();
+            (row.r.norm_squared(), 0.0)
         });
-        self.blocks = blocks;
+        let (translation, rotation) = self.preconditioner.split_at_mut(n);
+        network.diagonal_blocks(translation, rotation);
         b_squared.0
     }
 }

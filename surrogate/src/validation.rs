@@ -4,15 +4,12 @@
 
 use ndarray::Array2;
 
-use crate::dataset::Dataset;
+use crate::dataset::{Dataset, PROFILE_COLUMN};
 use crate::error::Result;
 use crate::mapping::Mapping;
 use crate::metrics::relative_l2_error;
 use crate::model::TrainedModel;
 use crate::samples::Samples;
-
-/// The column whose text names the flow profile of a row (the `u_inf(y)` expression).
-pub const PROFILE_COLUMN: &str = sim::output::dataset_columns::PROFILE;
 
 /// The name under which the errors over all validation rows together are reported.
 pub const ALL_PROFILES: &str = "all";

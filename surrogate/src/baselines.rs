@@ -11,7 +11,6 @@ use serde::Serialize;
 use crate::backbone::Backbone;
 use crate::error::{Result, SurrogateError};
 use crate::metrics::relative_l2_error;
-use crate::physical_range::clip_to_physical_range;
 use crate::samples::Samples;
 use crate::scaling::MinMaxScaling;
 
@@ -91,12 +90,11 @@ fn evaluate_local_rheology(train: &Samples, test: &Samples) -> Result<BaselineSc
     let scaling = MinMaxScaling::fit(train.outputs.view())?;
     let (backbone, _) = Backbone::fit(train)?;
     let training_time = started.elapsed();
-    let mut predicted = backbone.law_outputs(
+    let predicted = backbone.law_prediction(
         &test.feature_names,
         &test.output_names,
         test.features.view(),
     )?;
-    clip_to_physical_range(&test.output_names, &mut predicted);
     Ok(BaselineScore {
         baseline: Baseline::LocalRheology,
         per_output: relative_l2_error(

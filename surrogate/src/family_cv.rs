@@ -21,7 +21,6 @@ use crate::family_folds::{leave_one_family_out, FamilyFold};
 use crate::mapping::Mapping;
 use crate::metrics::relative_l2_error;
 use crate::model::TrainedModel;
-use crate::physical_range::clip_to_physical_range;
 use crate::samples::Samples;
 
 /// One way of predicting the outputs.
@@ -183,12 +182,7 @@ fn fold_errors(
         ..params.clone()
     };
     let trees = TrainedModel::fit(mapping, &train, &with_backbone(false))?;
-    let inside: Vec<bool> = trees
-        .domain()
-        .check(test.features.view())?
-        .iter()
-        .map(|c| c.inside())
-        .collect();
+    let inside = trees.domain().inside(test.features.view())?;
     let classes: [Vec<usize>; 3] = [
         (0..test.n_rows()).collect(),
         (0..test.n_rows()).filter(|&i| inside[i]).collect(),
@@ -203,15 +197,11 @@ fn fold_errors(
         let predicted = match (variant, &law) {
             (Variant::Trees, _) => Ok(trees.predict_features(test.features.view())?),
             (_, Err(why)) => Err(why.to_string()),
-            (Variant::Backbone, Ok(law)) => {
-                let mut values = law.law_outputs(
-                    &test.feature_names,
-                    &test.output_names,
-                    test.features.view(),
-                )?;
-                clip_to_physical_range(&test.output_names, &mut values);
-                Ok(values)
-            }
+            (Variant::Backbone, Ok(law)) => Ok(law.law_prediction(
+                &test.feature_names,
+                &test.output_names,
+                test.features.view(),
+            )?),
             (Variant::BackboneTrees, Ok(_)) => {
                 Ok(TrainedModel::fit(mapping, &train, &with_backbone(true))?
                     .predict_features(test.features.view())?)

@@ -97,12 +97,7 @@ impl Validation {
             errors.extend(group_error(&profile, &|i| profiles[i] == profile)?);
         }
         errors.extend(group_error(ALL_PROFILES, &|_| true)?);
-        let in_domain: Vec<bool> = model
-            .domain()
-            .check(samples.features.view())?
-            .iter()
-            .map(|c| c.inside())
-            .collect();
+        let in_domain = model.domain().inside(samples.features.view())?;
         let mut domain_errors = Vec::new();
         domain_errors.extend(group_error(IN_DOMAIN, &|i| in_domain[i])?);
         domain_errors.extend(group_error(OUT_OF_DOMAIN, &|i| !in_domain[i])?);

@@ -290,28 +290,20 @@ fn tuning_leaves_families_out_from_three_families_and_simulations_below() {
         backbone: vec![],
     };
     let mapping = Mapping::by_name("theta").unwrap();
-    // 6 scenes over 3 families: one fold per family.
+    // 6 scenes over 3 families: one fold per family; over 2 families: one per simulation.
     let three = samples_with_families(6, 3, "theta");
     let (left_out, folds) = tuning_folds(&three).unwrap();
     assert_eq!((left_out, folds.len()), (LeftOut::Family, 3));
-    let tuning = Tuning::run(mapping, &three, &grid).unwrap();
-    assert_eq!((tuning.left_out, tuning.folds), (LeftOut::Family, 3));
-    assert!(
-        tuning.cross_validation.contains("profile families")
-            && tuning.cross_validation.contains("`profile`"),
-        "{}",
-        tuning.cross_validation
-    );
-    // The same scenes over 2 families: one fold per simulation.
-    let two = samples_with_families(6, 2, "theta");
-    let tuning = Tuning::run(mapping, &two, &grid).unwrap();
-    assert_eq!((tuning.left_out, tuning.folds), (LeftOut::Simulation, 6));
-    assert!(
-        tuning.cross_validation.contains("simulations")
-            && tuning.cross_validation.contains("`scene_id`"),
-        "{}",
-        tuning.cross_validation
-    );
+    for (families, left_out, folds, words) in [
+        (3, LeftOut::Family, 3, ["profile families", "`profile`"]),
+        (2, LeftOut::Simulation, 6, ["simulations", "`scene_id`"]),
+    ] {
+        let samples = samples_with_families(6, families, "theta");
+        let tuning = Tuning::run(mapping, &samples, &grid).unwrap();
+        assert_eq!((tuning.left_out, tuning.folds), (left_out, folds));
+        let text = &tuning.cross_validation;
+        assert!(words.iter().all(|w| text.contains(w)), "{text}");
+    }
     // Without a profile column there are no families either.
     let mut none = three.clone();
     none.families = None;

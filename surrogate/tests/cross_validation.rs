@@ -309,3 +309,41 @@ fn tuning_leaves_families_out_from_three_families_and_simulations_below() {
     none.families = None;
     assert_eq!(tuning_folds(&none).unwrap().0, LeftOut::Simulation);
 }
+
+#[test]
+fn families_come_from_the_profile_column_of_either_table_kind() {
+    let runs = "scene_id,profile,seed,J,Theta,phi,phi_loc,mu\n\
+                a,\"0.1*sin(2*pi*y/L)\",1,0.01,0.1,0.5,0.6,0.3\n\
+                a,\"0.1*sin(2*pi*y/L)\",2,0.02,0.2,0.5,0.6,0.3\n\
+                b,\"0.2*sin(2*pi*y/L) + 0.1*cos(4*pi*y/L)\",1,0.03,0.3,0.5,0.6,0.3\n";
+    let ensemble = "scene_id,profile,replicas,se_from,J,Theta,phi,phi_loc,mu\n\
+                    a,\"0.1*sin(2*pi*y/L)\",2,replicas,0.01,0.1,0.5,0.6,0.3\n\
+                    b,\"0.2*sin(2*pi*y/L) + 0.1*cos(4*pi*y/L)\",1,batch_means,0.03,0.3,0.5,0.6,0.3\n";
+    for (csv, rows, ensemble) in [(runs, vec![0, 0, 1], false), (ensemble, vec![0, 1], true)] {
+        let data = surrogate::Dataset::from_csv_bytes(csv.as_bytes(), "t").unwrap();
+        let kind = surrogate::TableKind::of(&data).unwrap();
+        assert_eq!(
+            matches!(kind, surrogate::TableKind::Ensemble { .. }),
+            ensemble
+        );
+        let samples = Samples::from_dataset(&data, Mapping::by_name("theta").unwrap()).unwrap();
+        let names = family_names(&samples).unwrap();
+        assert_eq!(
+            names,
+            ["0.1*sin(2*pi*y/L)", "0.2*sin(2*pi*y/L) + 0.1*cos(4*pi*y/L)"]
+        );
+        let families: Vec<&String> = rows.iter().map(|&k| &names[k]).collect();
+        assert_eq!(
+            samples
+                .families
+                .as_ref()
+                .unwrap()
+                .iter()
+                .collect::<Vec<_>>(),
+            families
+        );
+        // A subset keeps each row's family.
+        let last = samples.subset(&[samples.n_rows() - 1]).unwrap();
+        assert_eq!(last.families.unwrap(), [names[1].clone()]);
+    }
+}

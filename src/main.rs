@@ -45,6 +45,8 @@ enum Command {
     Predict(commands::predict::Args),
     /// Predict a scene's steady profile from its forcing alone (momentum balance + closure).
     Solve(commands::solve::Args),
+    /// Compare XGBoost, the physics backbone and both, leaving one profile family out at a time.
+    CrossValidate(commands::cross_validate::Args),
     /// Measure the trained mappings on unseen flow profiles; write the figures.
     Validate(commands::validate::Args),
     /// Time loading a model, reading a 50-bin profile and predicting it.
@@ -71,6 +73,7 @@ fn main() -> anyhow::Result<()> {
         Command::Train(args) => commands::train::run(args),
         Command::Predict(args) => commands::predict::run(args),
         Command::Solve(args) => commands::solve::run(args),
+        Command::CrossValidate(args) => commands::cross_validate::run(args),
         Command::Validate(args) => commands::validate::run(args),
         Command::BenchPredict(args) => commands::bench_predict::run(args),
     }

@@ -1042,3 +1042,237 @@ fn train_keeps_existing_models_and_validate_warns_on_training_rows() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Rows of the dv mapping in four profile families (amplitudes 0.05-0.4), two scenes each
+/// (phi 0.50 and 0.56), that follow a local rheology exactly: `mu = 3.6 J^0.44` and eq 6.7
+/// `phi_loc = 0.66 - sqrt(J / (2 mu))`. Family `k` spans J in `[1, 10] x 1e-3 x 2.5^k`, so
+/// the strongest one lies mostly beyond the others' range of J.
+fn power_law_families() -> String {
+    let mut csv = String::from("scene_id,profile,phi,seed,J,Delta_v,phi_loc,mu\n");
+    for (k, amplitude) in ["0.05", "0.1", "0.2", "0.4"].iter().enumerate() {
+        for (s, phi) in [0.50, 0.56].iter().enumerate() {
+            for b in 0..20 {
+                let t = (b as f64 + 0.5 * s as f64) / 20.0;
+                let j = 1e-3 * 2.5f64.powi(k as i32) * 10f64.powf(t);
+                let mu = 3.6 * j.powf(0.44);
+                let phi_loc = 0.66 - (j / (2.0 * mu)).sqrt();
+                let delta_v = 0.02 + 0.5 * j + 0.01 * ((3 * b) % 7) as f64;
+                writeln!(
+                    csv,
+                    "f{k}_{s},\"{amplitude}*sin(2*pi*y/L)\",{phi},1,{j},{delta_v},{phi_loc},{mu}"
+                )
+                .unwrap();
+            }
+        }
+    }
+    csv
+}
+
+#[test]
+fn cross_validate_compares_trees_backbone_and_both_on_held_out_families() {
+    let dir = scratch("family_cv");
+    let data = write(&dir, "families.csv", &power_law_families());
+    let models = dir.join("models");
+    train_untuned(&data, &models, &["dv"]);
+    let out = dir.join("cv");
+    let args = [
+        "cross-validate",
+        "--data",
+        s(&data),
+        "--mapping",
+        "dv",
+        "--models",
+        s(&models),
+        "--out",
+        s(&out),
+    ];
+    let run = suspflow_ok(&args);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        stderr.contains("4 profile families") && stderr.contains("[4/4]"),
+        "{stderr}"
+    );
+    let record = read_json(&out.join("cv.json"));
+    let cv = &record["mappings"][0];
+    assert_eq!(cv["mapping"], "dv");
+    let folds = cv["folds"].as_array().unwrap();
+    // Every family held out exactly once, with all its rows, split into in and out of domain.
+    let held_out: BTreeSet<&str> = folds
+        .iter()
+        .map(|f| f["family"].as_str().unwrap())
+        .collect();
+    assert_eq!(held_out.len(), 4);
+    for fold in folds {
+        assert_eq!(fold["train_rows"], 120);
+        for v in fold["variants"].as_array().unwrap() {
+            let rows = |class: &str| v[class]["rows"].as_u64().unwrap();
+            assert_eq!(rows("all"), 40);
+            assert_eq!(rows("in_domain") + rows("out_of_domain"), 40);
+        }
+    }
+    // The strongest family: mostly beyond the training J. The backbone alone follows the
+    // law it was fitted on; the trees alone stay at the edge of their range.
+    let strongest = folds
+        .iter()
+        .find(|f| f["family"] == "0.4*sin(2*pi*y/L)")
+        .unwrap();
+    let errors = |variant: &str, class: &str| -> Vec<f64> {
+        let v = strongest["variants"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|v| v["variant"] == variant)
+            .unwrap();
+        v[class]["per_output"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|e| e.as_f64().unwrap())
+            .collect()
+    };
+    // Its J exceeds the others' largest (2.5^2 x 1e-2) in the upper 40 % of its log range:
+    // 16 of its 40 rows at least lie outside the training domain.
+    assert!(
+        strongest["variants"][0]["out_of_domain"]["rows"]
+            .as_u64()
+            .unwrap()
+            >= 16,
+        "{strongest}"
+    );
+    let (trees, law, both) = (
+        errors("trees", "all"),
+        errors("backbone", "all"),
+        errors("backbone_trees", "all"),
+    );
+    for k in 0..2 {
+        assert!(law[k] < 0.01, "backbone alone, output {k}: {law:?}");
+        assert!(
+            trees[k] > 0.05 && trees[k] > 5.0 * law[k],
+            "trees alone, output {k}: {trees:?} vs backbone {law:?}"
+        );
+        assert!(
+            both[k] < 0.5 * trees[k],
+            "backbone + trees {both:?} vs trees {trees:?}"
+        );
+    }
+    // The summary averages the families' errors.
+    let summary = &cv["summary"][0];
+    assert_eq!(summary["variant"], "trees");
+    assert_eq!(summary["all"]["families"], 4);
+    let mean: f64 = folds
+        .iter()
+        .map(|f| f["variants"][0]["all"]["per_output"][1].as_f64().unwrap())
+        .sum::<f64>()
+        / 4.0;
+    let reported = summary["all"]["per_output"][1].as_f64().unwrap();
+    assert!((reported - mean).abs() < 1e-12, "{reported} vs {mean}");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for needle in [
+        "## Mapping `dv`",
+        "| phi_loc | backbone alone |",
+        "### `mu` by held-out family",
+        "| `0.4*sin(2*pi*y/L)` | 40 (",
+    ] {
+        assert!(report.contains(needle), "no `{needle}` in\n{report}");
+    }
+    // An existing report is kept unless --force.
+    let err = suspflow_err(&args);
+    assert!(
+        err.contains("already exists") && err.contains("--force"),
+        "{err}"
+    );
+    let mut forced = args.to_vec();
+    forced.push("--force");
+    suspflow_ok(&forced);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn cross_validate_refuses_tables_without_two_families_and_models() {
+    let dir = scratch("family_cv_errors");
+    let csv = power_law_families();
+    let data = write(&dir, "families.csv", &csv);
+    let models = dir.join("models");
+    train_untuned(&data, &models, &["dv"]);
+    let run = |data: &Path, models: &Path| {
+        suspflow_err(&[
+            "cross-validate",
+            "--data",
+            s(data),
+            "--mapping",
+            "dv",
+            "--models",
+            s(models),
+            "--out",
+            s(&dir.join("cv")),
+        ])
+    };
+    let one: String = csv
+        .lines()
+        .filter(|l| !l.starts_with("f3") && !l.starts_with("f1") && !l.starts_with("f2"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let err = run(&write(&dir, "one.csv", &one), &models);
+    assert!(
+        err.contains("at least 2 families") && err.contains("has 1"),
+        "{err}"
+    );
+    let no_profile = csv.replace("scene_id,profile,", "scene_id,forcing,");
+    let err = run(&write(&dir, "no_profile.csv", &no_profile), &models);
+    assert!(err.contains("no column `profile`"), "{err}");
+    let err = run(&data, &dir.join("nowhere"));
+    assert!(
+        err.contains("hyper-parameters of `dv`") && err.contains("train first"),
+        "{err}"
+    );
+    assert!(!dir.join("cv").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn predict_counts_the_values_clipped_into_the_physical_range() {
+    let dir = scratch("clip");
+    let data = write(&dir, "families.csv", &power_law_families());
+    let models = dir.join("models");
+    // Trees on the backbone's residual: beyond the training J, eq 6.7 drives phi_loc below 0.
+    let out = suspflow_ok(&[
+        "train",
+        "--data",
+        s(&data),
+        "--out",
+        s(&models),
+        "--mapping",
+        "dv",
+    ]);
+    let meta = read_json(&models.join("dv.meta.json"));
+    assert_eq!(
+        meta["hyper_parameters"]["backbone"],
+        true,
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let input = write(
+        &dir,
+        "far.csv",
+        "J,Delta_v,phi\n0.01,0.03,0.5\n100,0.03,0.5\n1000,0.03,0.5\n",
+    );
+    let run = suspflow_ok(&[
+        "predict",
+        "--model",
+        s(&models.join("dv")),
+        "--input",
+        s(&input),
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    let predicted = String::from_utf8_lossy(&run.stdout);
+    let phi_loc = numeric_column(&predicted, "phi_loc_pred");
+    assert!(phi_loc.iter().all(|&p| p > 0.0 && p < 0.74), "{phi_loc:?}");
+    assert!(numeric_column(&predicted, "mu_pred")
+        .iter()
+        .all(|&m| m >= 0.0));
+    assert!(
+        stderr.contains("2 predicted values of `dv` left their physical range"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -6,6 +6,7 @@ pub mod bench_predict;
 pub mod compare;
 pub mod conventions;
 pub mod coverage;
+pub mod cross_validate;
 pub mod flow_curves;
 pub mod generate;
 pub mod merge;

@@ -5,6 +5,8 @@
 //! the model's training domain (`surrogate::training_domain`): the `in_domain` column says
 //! whether it lies inside, `domain_distance` how far it is from the nearest training rows in
 //! units of the domain's threshold (<= 1 is near enough), and the rows outside are counted.
+//! Predictions are clipped into their physical range (`surrogate::physical_range`: 0 <
+//! phi_loc < 0.74, mu >= 0), and the clipped values are counted too.
 use anyhow::Context;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -34,7 +36,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let dir = args.model.parent().map(PathBuf::from).unwrap_or_default();
     let model = Predictor::load(&dir, name)?;
     let dataset = Dataset::read_csv(&args.input)?;
-    let predicted = model.predict(&dataset)?;
+    let (predicted, clipped) = model.predict_counting_clips(&dataset)?;
     let domain = model.check_domain(&dataset)?;
     let elapsed = started.elapsed();
     let predicted: Vec<Vec<f64>> = predicted.rows().into_iter().map(|r| r.to_vec()).collect();
@@ -51,6 +53,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         name,
         elapsed.as_secs_f64() * 1e3
     );
+    if clipped > 0 {
+        eprintln!(
+            "warning: {clipped} predicted values of `{name}` left their physical range \
+             (0 < phi_loc < {}, mu >= 0) and were clipped to its edge",
+            surrogate::PHI_LOC_MAX
+        );
+    }
     let outside = domain.iter().filter(|c| !c.inside()).count();
     if outside > 0 {
         let out_of_range = domain.iter().filter(|c| !c.in_range).count();

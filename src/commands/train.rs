@@ -2,8 +2,9 @@
 //! section 8 and saves each as XGBoost JSON plus a sidecar.
 //!
 //! By default each mapping's hyper-parameters are chosen first, on the training data only:
-//! every setting of `surrogate::standard_grid()` is cross-validated leaving one simulation
-//! (`scene_id`) out at a time, and the lowest mean relative L2 error wins. The search is
+//! every setting of `surrogate::standard_grid()` is cross-validated leaving one profile
+//! family (`profile`) out at a time when the data hold at least three families, else one
+//! simulation (`scene_id`), and the lowest mean relative L2 error wins. The search is
 //! recorded in `DIR/<mapping>.tuning.json`, next to the error of XGBoost's defaults (the
 //! thesis's untuned setting). `--no-tune` trains with those defaults directly.
 use anyhow::Context;
@@ -109,11 +110,12 @@ fn tune(
         .save(out)
         .with_context(|| format!("saving the {} tuning record", mapping.name))?;
     println!(
-        "{}: {} settings cross-validated over {} simulations (leave one out) in {:.1} s; chosen {}: {}; \
+        "{}: {} settings cross-validated over {} {} (leave one out) in {:.1} s; chosen {}: {}; \
          XGBoost defaults ({}): {}",
         mapping.name,
         tuning.scores.len(),
         tuning.folds,
+        tuning.left_out.plural(),
         tuning.seconds,
         describe(&tuning.chosen.params),
         errors_by_output(mapping.outputs, &tuning.chosen.per_output),

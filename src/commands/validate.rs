@@ -283,8 +283,9 @@ fn print_comparison(c: &Checked, train: Option<&Path>, models: &Path) -> anyhow:
     }
     match Tuning::load(models, c.mapping.name) {
         Ok(tuning) => println!(
-            "  cross-validation on the training data ({} folds, one simulation left out each): chosen {}; defaults {}",
+            "  cross-validation on the training data ({} folds, one of the {} left out each): chosen {}; defaults {}",
             tuning.folds,
+            tuning.left_out.plural(),
             errors_by_output(outputs, &tuning.chosen.per_output),
             errors_by_output(outputs, &tuning.untuned.per_output)
         ),

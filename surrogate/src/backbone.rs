@@ -7,6 +7,7 @@ use sim::output::dataset_columns as col;
 
 use crate::error::{Result, SurrogateError};
 use crate::local_rheology::LocalRheology;
+use crate::physical_range::clip_to_physical_range;
 use crate::samples::Samples;
 use crate::scaling::MinMaxScaling;
 
@@ -55,6 +56,19 @@ impl Backbone {
     ) -> Result<Array2<f64>> {
         Ok(self.residual_scaling.unscale(scaled)?
             + self.law_outputs(feature_names, output_names, features)?)
+    }
+
+    /// The backbone alone as a model: [`Backbone::law_outputs`] clipped into each output's
+    /// physical range ([`crate::physical_range`]).
+    pub fn law_prediction(
+        &self,
+        feature_names: &[String],
+        output_names: &[String],
+        features: ArrayView2<f64>,
+    ) -> Result<Array2<f64>> {
+        let mut values = self.law_outputs(feature_names, output_names, features)?;
+        clip_to_physical_range(output_names, &mut values);
+        Ok(values)
     }
 
     /// The law's value of each output (columns `output_names`) at the J of each row of

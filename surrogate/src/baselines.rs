@@ -90,7 +90,7 @@ fn evaluate_local_rheology(train: &Samples, test: &Samples) -> Result<BaselineSc
     let scaling = MinMaxScaling::fit(train.outputs.view())?;
     let (backbone, _) = Backbone::fit(train)?;
     let training_time = started.elapsed();
-    let predicted = backbone.law_outputs(
+    let predicted = backbone.law_prediction(
         &test.feature_names,
         &test.output_names,
         test.features.view(),

@@ -21,6 +21,12 @@ use crate::fingerprint::fnv1a_64;
 /// cross-validation, so that rows of one simulation never sit on both sides of a split.
 pub const GROUP_COLUMN: &str = sim::output::dataset_columns::SCENE_ID;
 
+/// The column whose text names the flow profile of a row: the forcing expression `u_inf(y)`,
+/// e.g. `0.2*sin(2*pi*y/L) + 0.1*cos(4*pi*y/L)`, which names both the shape and the
+/// amplitude. Rows with the same text form a profile family (the scenes of one forcing at
+/// every phi, L_y and seed), the unit that leave-one-family-out cross-validation holds out.
+pub const PROFILE_COLUMN: &str = sim::output::dataset_columns::PROFILE;
+
 /// The UTF-8 byte-order mark some editors put at the start of a CSV file.
 const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 
@@ -167,10 +173,24 @@ impl Dataset {
     /// The grouping key of each row: the text of [`GROUP_COLUMN`]; an empty key is an
     /// error naming its row (a row of no simulation cannot be grouped).
     pub fn group_keys(&self) -> Result<&[String]> {
-        let keys = self.text(GROUP_COLUMN)?;
+        self.keys(GROUP_COLUMN, "its simulation")
+    }
+
+    /// The profile family of each row: the text of [`PROFILE_COLUMN`], or `None` when the
+    /// table has no such column; an empty cell is an error naming its row.
+    pub fn family_keys(&self) -> Result<Option<&[String]>> {
+        if !self.names.iter().any(|n| n == PROFILE_COLUMN) {
+            return Ok(None);
+        }
+        self.keys(PROFILE_COLUMN, "its forcing profile").map(Some)
+    }
+
+    /// The text of key column `name`, refusing an empty cell: every row must name `what`.
+    fn keys(&self, name: &str, what: &str) -> Result<&[String]> {
+        let keys = self.text(name)?;
         match keys.iter().position(String::is_empty) {
             Some(row) => Err(SurrogateError::InvalidArgument(format!(
-                "{}: data row {}, column `{GROUP_COLUMN}` is empty; every row must name its simulation",
+                "{}: data row {}, column `{name}` is empty; every row must name {what}",
                 self.source_name,
                 row + 1
             ))),
@@ -339,6 +359,15 @@ mod tests {
             message.contains("data row 2, column `scene_id` is empty"),
             "{message}"
         );
+        let data =
+            Dataset::from_csv_bytes(b"scene_id,profile,J\ns1,sin,0.1\ns2,,0.2\n", "t").unwrap();
+        let message = data.family_keys().unwrap_err().to_string();
+        assert!(
+            message.contains("data row 2, column `profile` is empty"),
+            "{message}"
+        );
+        let data = Dataset::from_csv_bytes(b"scene_id,J\ns1,0.1\n", "t").unwrap();
+        assert_eq!(data.family_keys().unwrap(), None);
     }
 
     #[test]

@@ -8,8 +8,11 @@
 //! `<mapping>.meta.json`; a [`Predictor`] reads both back and predicts without the XGBoost
 //! library, walking the trees itself ([`Forest`]). Accuracy is the relative L2 error on
 //! scaled outputs ([`relative_l2_error`], eq 6.6), cross-validated by whole simulations
-//! ([`grouped_k_fold`]), which also chooses the hyper-parameters ([`Tuning`]), and compared
-//! with linear [`baselines`]; [`Validation`] measures a model on unseen flow profiles.
+//! ([`grouped_k_fold`]) or by whole profile families ([`leave_one_family_out`]), which also
+//! chooses the hyper-parameters ([`Tuning`]), and compared with linear [`baselines`];
+//! [`FamilyCv`] compares trees alone, the physics backbone alone and the two together on
+//! families left out; [`Validation`] measures a model on unseen flow profiles. Predictions
+//! are clipped into each output's [`physical_range`].
 //!
 //! The XGBoost library is the pinned `xgboost-cpu` wheel's `libxgboost.so`, provided by the
 //! workspace's `vendor/xgboost_lib-sys` crate; see its build script.
@@ -21,6 +24,8 @@ pub mod cross_validation;
 pub mod dataset;
 pub mod error;
 pub mod excerpt;
+pub mod family_cv;
+pub mod family_folds;
 mod files;
 mod fingerprint;
 pub mod forest;
@@ -28,6 +33,7 @@ pub mod local_rheology;
 pub mod mapping;
 pub mod metrics;
 pub mod model;
+pub mod physical_range;
 pub mod predictor;
 pub mod profile_solver;
 pub mod samples;
@@ -44,14 +50,21 @@ pub use cross_validation::{
     cross_validate, grid_search, grouped_k_fold, leave_one_group_out, CvScore, Fold, GridSearch,
     HyperParameterGrid,
 };
-pub use dataset::{Dataset, GROUP_COLUMN};
+pub use dataset::{Dataset, GROUP_COLUMN, PROFILE_COLUMN};
 pub use error::{Result, SurrogateError};
 pub use excerpt::excerpt;
+pub use family_cv::{
+    FamilyCv, FoldErrors, MeanErrors, RowErrors, Variant, VariantErrors, VariantSummary,
+};
+pub use family_folds::{
+    family_names, leave_one_family_out, tuning_folds, FamilyFold, LeftOut, MIN_TUNING_FAMILIES,
+};
 pub use forest::Forest;
 pub use local_rheology::LocalRheology;
 pub use mapping::{Mapping, MAPPINGS};
 pub use metrics::relative_l2_error;
 pub use model::{ModelMeta, TrainedModel, TrainingData};
+pub use physical_range::{clip_to_physical_range, physical_range, PHI_LOC_MAX};
 pub use predictor::Predictor;
 pub use profile_solver::{Closure, LearnedClosure, ProfileProblem, ProfileSolution};
 pub use samples::Samples;
@@ -61,5 +74,5 @@ pub use training_domain::{DomainCheck, TrainingDomain};
 pub use tuning::{standard_grid, Tuning};
 pub use validation::{
     profile_names, seeds_validation_error, ProfileError, Validation, ALL_PROFILES, IN_DOMAIN,
-    OUT_OF_DOMAIN, PROFILE_COLUMN,
+    OUT_OF_DOMAIN,
 };

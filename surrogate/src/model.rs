@@ -13,6 +13,7 @@ use crate::error::{Result, SurrogateError};
 use crate::files;
 use crate::mapping::Mapping;
 use crate::metrics::relative_l2_error;
+use crate::physical_range::clip_to_physical_range;
 use crate::samples::Samples;
 use crate::scaling::MinMaxScaling;
 use crate::training_domain::TrainingDomain;
@@ -172,16 +173,28 @@ impl TrainedModel {
 
 impl ModelMeta {
     /// Outputs in original units from the trees' predictions `scaled` for rows `features`:
-    /// unscaled outputs, or the backbone plus unscaled residuals.
+    /// unscaled outputs, or the backbone plus unscaled residuals, clipped into their
+    /// [`physical_range`](crate::physical_range::physical_range).
     pub fn outputs(
         &self,
         features: ArrayView2<f64>,
         scaled: ArrayView2<f64>,
     ) -> Result<Array2<f64>> {
-        match &self.backbone {
-            None => self.scaling.unscale(scaled),
-            Some(backbone) => backbone.outputs(&self.features, &self.outputs, features, scaled),
-        }
+        Ok(self.outputs_counting_clips(features, scaled)?.0)
+    }
+
+    /// [`ModelMeta::outputs`], with the number of cells the physical range clipped.
+    pub fn outputs_counting_clips(
+        &self,
+        features: ArrayView2<f64>,
+        scaled: ArrayView2<f64>,
+    ) -> Result<(Array2<f64>, usize)> {
+        let mut values = match &self.backbone {
+            None => self.scaling.unscale(scaled)?,
+            Some(backbone) => backbone.outputs(&self.features, &self.outputs, features, scaled)?,
+        };
+        let clipped = clip_to_physical_range(&self.outputs, &mut values);
+        Ok((values, clipped))
     }
 
     /// The feature columns of `dataset`, in the model's order, as a matrix of finite numbers;

@@ -72,6 +72,15 @@ impl Predictor {
         self.predict_features(self.meta.feature_matrix(dataset)?.view())
     }
 
+    /// [`Predictor::predict`], with the number of cells clipped into their physical range
+    /// ([`crate::physical_range`]).
+    pub fn predict_counting_clips(&self, dataset: &Dataset) -> Result<(Array2<f64>, usize)> {
+        let features = self.meta.feature_matrix(dataset)?;
+        let scaled = self.forest.predict(features.view())?;
+        self.meta
+            .outputs_counting_clips(features.view(), scaled.view())
+    }
+
     /// Predictions in original units for a rows x features matrix, columns in
     /// [`ModelMeta::features`] order.
     pub fn predict_features(&self, features: ArrayView2<f64>) -> Result<Array2<f64>> {

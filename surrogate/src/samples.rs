@@ -1,4 +1,5 @@
-//! The rows of a dataset as one mapping sees them: features, outputs, and simulation groups.
+//! The rows of a dataset as one mapping sees them: features, outputs, simulation groups and
+//! profile families.
 
 use ndarray::{Array2, Axis};
 
@@ -6,8 +7,8 @@ use crate::dataset::Dataset;
 use crate::error::{Result, SurrogateError};
 use crate::mapping::Mapping;
 
-/// Feature and output matrices of one mapping, with the group (simulation) of each row and
-/// the row's number in the source dataset (from 1), for error messages. Rows with an empty
+/// Feature and output matrices of one mapping, with the group (simulation) and the profile
+/// family of each row and the row's number in the source dataset (from 1), for error messages. Rows with an empty
 /// (undefined) cell in one of the mapping's columns are left out and counted.
 #[derive(Debug, Clone)]
 pub struct Samples {
@@ -23,6 +24,10 @@ pub struct Samples {
     pub outputs: Array2<f64>,
     /// Grouping key of each row (see [`crate::dataset::GROUP_COLUMN`]).
     pub groups: Vec<String>,
+    /// Profile family of each row: the text of [`crate::dataset::PROFILE_COLUMN`], the forcing
+    /// expression, which names both its shape and its amplitude; `None` when the source has
+    /// no such column.
+    pub families: Option<Vec<String>>,
     /// 1-based data row of each row in the source dataset.
     pub data_rows: Vec<usize>,
     /// Rows of the source dataset left out because one of the mapping's cells is empty.
@@ -51,6 +56,7 @@ impl Samples {
             });
         }
         let keys = dataset.group_keys()?;
+        let families = dataset.family_keys()?;
         Ok(Samples {
             source_name: dataset.source_name().to_owned(),
             source_fingerprint: dataset.fingerprint(),
@@ -59,6 +65,7 @@ impl Samples {
             features: dataset.matrix_of_rows(mapping.features, &rows)?,
             outputs: dataset.matrix_of_rows(mapping.outputs, &rows)?,
             groups: rows.iter().map(|&row| keys[row].clone()).collect(),
+            families: families.map(|f| rows.iter().map(|&row| f[row].clone()).collect()),
             data_rows: rows.iter().map(|&row| row + 1).collect(),
             skipped_rows: dataset.n_rows() - rows.len(),
         })
@@ -87,6 +94,10 @@ impl Samples {
             features: self.features.select(Axis(0), rows),
             outputs: self.outputs.select(Axis(0), rows),
             groups: rows.iter().map(|&row| self.groups[row].clone()).collect(),
+            families: self
+                .families
+                .as_ref()
+                .map(|f| rows.iter().map(|&row| f[row].clone()).collect()),
             data_rows: rows.iter().map(|&row| self.data_rows[row]).collect(),
             skipped_rows: self.skipped_rows,
         })

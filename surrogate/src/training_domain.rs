@@ -141,6 +141,16 @@ impl TrainingDomain {
         })
     }
 
+    /// Whether each row of `features` (rows x features, in the model's order) lies inside
+    /// ([`DomainCheck::inside`]).
+    pub fn inside(&self, features: ArrayView2<f64>) -> Result<Vec<bool>> {
+        Ok(self
+            .check(features)?
+            .iter()
+            .map(DomainCheck::inside)
+            .collect())
+    }
+
     /// The check of each row of `features` (rows x features, in the model's order).
     pub fn check(&self, features: ArrayView2<f64>) -> Result<Vec<DomainCheck>> {
         let n_features = self.axes.len();

@@ -4,15 +4,12 @@
 
 use ndarray::Array2;
 
-use crate::dataset::Dataset;
+use crate::dataset::{Dataset, PROFILE_COLUMN};
 use crate::error::Result;
 use crate::mapping::Mapping;
 use crate::metrics::relative_l2_error;
 use crate::model::TrainedModel;
 use crate::samples::Samples;
-
-/// The column whose text names the flow profile of a row (the `u_inf(y)` expression).
-pub const PROFILE_COLUMN: &str = sim::output::dataset_columns::PROFILE;
 
 /// The name under which the errors over all validation rows together are reported.
 pub const ALL_PROFILES: &str = "all";
@@ -100,12 +97,7 @@ impl Validation {
             errors.extend(group_error(&profile, &|i| profiles[i] == profile)?);
         }
         errors.extend(group_error(ALL_PROFILES, &|_| true)?);
-        let in_domain: Vec<bool> = model
-            .domain()
-            .check(samples.features.view())?
-            .iter()
-            .map(|c| c.inside())
-            .collect();
+        let in_domain = model.domain().inside(samples.features.view())?;
         let mut domain_errors = Vec::new();
         domain_errors.extend(group_error(IN_DOMAIN, &|i| in_domain[i])?);
         domain_errors.extend(group_error(OUT_OF_DOMAIN, &|i| !in_domain[i])?);

@@ -87,3 +87,43 @@ fn saved_backbone_model_predicts_the_same_without_the_library() {
         assert!((x - y).abs() <= 1e-5 * x.abs().max(1e-3), "{x} vs {y}");
     }
 }
+
+#[test]
+fn extrapolated_predictions_stay_in_their_physical_range() {
+    // Far beyond the training J, eq 6.7 with mu = A J^b (b < 1) drives phi_loc below 0: the
+    // law itself leaves the physical range, so only the clip can keep the prediction in it.
+    let j_far = 1e3;
+    assert!(LAW.phi_loc(j_far) < 0.0, "{}", LAW.phi_loc(j_far));
+    let mapping = Mapping::by_name("dv").unwrap();
+    let train = samples(&table(1e-3, 0.05, 6, 30), mapping);
+    let params = HyperParameters {
+        backbone: true,
+        ..HyperParameters::default()
+    };
+    let model = TrainedModel::fit(mapping, &train, &params).unwrap();
+    let law = model.meta().backbone.as_ref().unwrap().law;
+    assert!(law.phi_loc(j_far) < 0.0, "{law:?}");
+    // Rows (J, Delta_v, phi) from the training range to far beyond it, and J = 0.
+    let rows = ndarray::array![
+        [1e-2, 0.03, 0.54],
+        [10.0, 0.03, 0.54],
+        [j_far, 0.03, 0.54],
+        [0.0, 0.06, 0.54]
+    ];
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("physical_range");
+    let _ = std::fs::remove_dir_all(&dir);
+    model.save(&dir).unwrap();
+    let predictor = Predictor::load(&dir, "dv").unwrap();
+    for predicted in [
+        model.predict_features(rows.view()).unwrap(),
+        predictor.predict_features(rows.view()).unwrap(),
+    ] {
+        for row in predicted.rows() {
+            let (phi_loc, mu) = (row[0], row[1]);
+            assert!(phi_loc > 0.0 && phi_loc < 0.74, "phi_loc {phi_loc}");
+            assert!(mu >= 0.0, "mu {mu}");
+        }
+        // Inside the training range nothing is clipped: the law's value to within the trees.
+        assert!((predicted[[0, 0]] - (LAW.phi_loc(1e-2) - 0.003)).abs() < 0.01);
+    }
+}

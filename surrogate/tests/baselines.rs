@@ -19,6 +19,7 @@ fn samples_of(features: Array2<f64>, output: impl Fn(&[f64]) -> f64) -> Samples 
         features,
         outputs,
         groups: vec!["g".to_owned(); n],
+        families: None,
         data_rows: (1..=n).collect(),
         skipped_rows: 0,
     }

@@ -1,13 +1,14 @@
-//! Grouped cross-validation and grid search.
+//! Grouped cross-validation (by simulation and by profile family) and grid search.
 
 mod common;
 
 use std::collections::BTreeSet;
 
-use common::{scratch_dir, synthetic_dataset};
+use common::{scratch_dir, synthetic_csv_with_families, synthetic_dataset};
 use surrogate::{
-    cross_validate, grid_search, grouped_k_fold, leave_one_group_out, standard_grid, Fold,
-    HyperParameterGrid, HyperParameters, Mapping, Samples, SurrogateError, Tuning,
+    cross_validate, family_names, grid_search, grouped_k_fold, leave_one_family_out,
+    leave_one_group_out, standard_grid, tuning_folds, Fold, HyperParameterGrid, HyperParameters,
+    LeftOut, Mapping, Samples, SurrogateError, Tuning,
 };
 
 /// Groups of uneven sizes: g0 x 5, g1 x 1, g2 x 3, ... interleaved.
@@ -223,4 +224,126 @@ fn tuning_leaves_out_the_backbone_where_its_laws_do_not_fit() {
     assert!(why.contains("eq 6.7"), "{why}");
     assert_eq!(tuning.scores.len(), 1);
     assert!(!tuning.chosen.params.backbone);
+}
+
+fn samples_with_families(n_scenes: usize, families: usize, mapping: &str) -> Samples {
+    let csv = synthetic_csv_with_families(n_scenes, 6, 4, families);
+    let data = surrogate::Dataset::from_csv_bytes(csv.as_bytes(), "families").unwrap();
+    Samples::from_dataset(&data, Mapping::by_name(mapping).unwrap()).unwrap()
+}
+
+#[test]
+fn leave_one_family_out_holds_whole_families_and_leaves_each_out_once() {
+    // 10 scenes over 4 families: families of 3, 3, 2 and 2 scenes, interleaved.
+    let samples = samples_with_families(10, 4, "mu");
+    let families = samples.families.clone().unwrap();
+    let folds = leave_one_family_out(&samples).unwrap();
+    assert_valid_grouped_folds(
+        &families,
+        &folds.iter().map(|f| f.fold.clone()).collect::<Vec<_>>(),
+    );
+    let left_out: Vec<&str> = folds.iter().map(|f| f.family.as_str()).collect();
+    assert_eq!(left_out, family_names(&samples).unwrap());
+    assert_eq!(
+        left_out,
+        [
+            "0.1*sin(2*pi*y/L)",
+            "0.2*sin(2*pi*y/L)",
+            "0.3*sin(2*pi*y/L)",
+            "0.4*sin(2*pi*y/L)"
+        ]
+    );
+    for fold in &folds {
+        // Every row of the family is tested, and only those; simulations stay whole.
+        let expected: Vec<usize> = (0..samples.n_rows())
+            .filter(|&r| families[r] == fold.family)
+            .collect();
+        assert_eq!(fold.fold.test, expected);
+        let scenes: BTreeSet<&String> =
+            fold.fold.test.iter().map(|&r| &samples.groups[r]).collect();
+        assert_eq!(fold.fold.test.len(), 6 * scenes.len());
+    }
+}
+
+#[test]
+fn leave_one_family_out_needs_two_families_and_a_profile_column() {
+    let one = samples_with_families(4, 1, "mu");
+    let error = leave_one_family_out(&one).unwrap_err().to_string();
+    assert!(
+        error.contains("at least 2 families") && error.contains("has 1"),
+        "{error}"
+    );
+    let mut none = one.clone();
+    none.families = None;
+    let error = leave_one_family_out(&none).unwrap_err().to_string();
+    assert!(error.contains("no `profile` column"), "{error}");
+}
+
+#[test]
+fn tuning_leaves_families_out_from_three_families_and_simulations_below() {
+    let grid = HyperParameterGrid {
+        base: HyperParameters::default(),
+        n_estimators: vec![20],
+        max_depth: vec![2],
+        learning_rate: vec![0.3],
+        min_child_weight: vec![],
+        backbone: vec![],
+    };
+    let mapping = Mapping::by_name("theta").unwrap();
+    // 6 scenes over 3 families: one fold per family; over 2 families: one per simulation.
+    let three = samples_with_families(6, 3, "theta");
+    let (left_out, folds) = tuning_folds(&three).unwrap();
+    assert_eq!((left_out, folds.len()), (LeftOut::Family, 3));
+    for (families, left_out, folds, words) in [
+        (3, LeftOut::Family, 3, ["profile families", "`profile`"]),
+        (2, LeftOut::Simulation, 6, ["simulations", "`scene_id`"]),
+    ] {
+        let samples = samples_with_families(6, families, "theta");
+        let tuning = Tuning::run(mapping, &samples, &grid).unwrap();
+        assert_eq!((tuning.left_out, tuning.folds), (left_out, folds));
+        let text = &tuning.cross_validation;
+        assert!(words.iter().all(|w| text.contains(w)), "{text}");
+    }
+    // Without a profile column there are no families either.
+    let mut none = three.clone();
+    none.families = None;
+    assert_eq!(tuning_folds(&none).unwrap().0, LeftOut::Simulation);
+}
+
+#[test]
+fn families_come_from_the_profile_column_of_either_table_kind() {
+    let runs = "scene_id,profile,seed,J,Theta,phi,phi_loc,mu\n\
+                a,\"0.1*sin(2*pi*y/L)\",1,0.01,0.1,0.5,0.6,0.3\n\
+                a,\"0.1*sin(2*pi*y/L)\",2,0.02,0.2,0.5,0.6,0.3\n\
+                b,\"0.2*sin(2*pi*y/L) + 0.1*cos(4*pi*y/L)\",1,0.03,0.3,0.5,0.6,0.3\n";
+    let ensemble = "scene_id,profile,replicas,se_from,J,Theta,phi,phi_loc,mu\n\
+                    a,\"0.1*sin(2*pi*y/L)\",2,replicas,0.01,0.1,0.5,0.6,0.3\n\
+                    b,\"0.2*sin(2*pi*y/L) + 0.1*cos(4*pi*y/L)\",1,batch_means,0.03,0.3,0.5,0.6,0.3\n";
+    for (csv, rows, ensemble) in [(runs, vec![0, 0, 1], false), (ensemble, vec![0, 1], true)] {
+        let data = surrogate::Dataset::from_csv_bytes(csv.as_bytes(), "t").unwrap();
+        let kind = surrogate::TableKind::of(&data).unwrap();
+        assert_eq!(
+            matches!(kind, surrogate::TableKind::Ensemble { .. }),
+            ensemble
+        );
+        let samples = Samples::from_dataset(&data, Mapping::by_name("theta").unwrap()).unwrap();
+        let names = family_names(&samples).unwrap();
+        assert_eq!(
+            names,
+            ["0.1*sin(2*pi*y/L)", "0.2*sin(2*pi*y/L) + 0.1*cos(4*pi*y/L)"]
+        );
+        let families: Vec<&String> = rows.iter().map(|&k| &names[k]).collect();
+        assert_eq!(
+            samples
+                .families
+                .as_ref()
+                .unwrap()
+                .iter()
+                .collect::<Vec<_>>(),
+            families
+        );
+        // A subset keeps each row's family.
+        let last = samples.subset(&[samples.n_rows() - 1]).unwrap();
+        assert_eq!(last.families.unwrap(), [names[1].clone()]);
+    }
 }

@@ -129,3 +129,27 @@ pub fn scratch_dir(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// [`synthetic_csv`] with the scenes spread over `families` profile families: scene `s`
+/// gets the profile `0.<f+1>*sin(2*pi*y/L)` with `f = s % families` (the other cells are
+/// unchanged).
+pub fn synthetic_csv_with_families(
+    n_scenes: usize,
+    rows_per_scene: usize,
+    seed: u64,
+    families: usize,
+) -> String {
+    let csv = synthetic_csv(n_scenes, rows_per_scene, seed);
+    let mut lines = csv.lines();
+    let mut out = lines.next().unwrap().to_owned() + "\n";
+    for line in lines {
+        let (scene, rest) = line.split_once(',').unwrap();
+        let s: usize = scene[1..].parse().unwrap();
+        let profile = format!("0.{}*sin(2*pi*y/L)", s % families + 1);
+        out += &format!(
+            "{scene},{}\n",
+            rest.replacen("0.1*sin(2*pi*y/L)", &profile, 1)
+        );
+    }
+    out
+}

@@ -1,0 +1,251 @@
+//! `suspflow cross-validate --data TABLE --out DIR`: leave-one-family-out cross-validation of
+//! XGBoost alone, the physics backbone alone and backbone + XGBoost (`surrogate::FamilyCv`).
+//!
+//! A profile family is every row of one forcing expression (the `profile` column: shape and
+//! amplitude) at every phi, L_y and seed. Each fold trains the three variants and the
+//! training domain on the other families and measures, per mapping and output, the relative
+//! L2 error of eq 6.6 on the held-out family's rows: all of them, those inside the training
+//! domain and those outside, with their counts. The trees' settings are those of the models
+//! in `--models` (`<mapping>.meta.json`), so train first. Writes `DIR/report.md` (tables)
+//! and `DIR/cv.json` (every figure); progress goes to standard error.
+use anyhow::Context;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+use surrogate::{
+    family_names, profile_names, Dataset, FamilyCv, Mapping, MeanErrors, RowErrors, Samples,
+    TableKind, TrainedModel, Variant,
+};
+
+use crate::surrogate_text::{describe, percent, warn_skipped};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Table with a `profile` column naming each row's forcing: the per-run table of
+    /// `generate` or its ensemble table (`<stem>.ensemble.csv`); at least two families.
+    #[arg(long)]
+    data: PathBuf,
+    /// Mappings to cross-validate (mu, theta, dv); all three when absent.
+    #[arg(long = "mapping")]
+    mappings: Vec<String>,
+    /// Directory of trained models whose hyper-parameters the trees use (`suspflow train --out`).
+    #[arg(long, default_value = "models")]
+    models: PathBuf,
+    /// Directory for `report.md` and `cv.json`.
+    #[arg(long, default_value = "reports/family_cv")]
+    out: PathBuf,
+    /// Replace a report already in `--out`.
+    #[arg(long)]
+    force: bool,
+}
+
+/// Everything `cv.json` holds.
+#[derive(Serialize)]
+struct Record<'a> {
+    data: &'a str,
+    /// FNV-1a 64 hash of the data file, 16 hex digits.
+    fnv1a_64: String,
+    table: Option<String>,
+    families: Vec<String>,
+    models: String,
+    seconds: f64,
+    mappings: &'a [FamilyCv],
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let dataset = Dataset::read_csv(&args.data)?;
+    let mappings = Mapping::select(&args.mappings)?;
+    crate::output_guard::out_dir(&args.out)?;
+    let (report, json) = (args.out.join("report.md"), args.out.join("cv.json"));
+    for path in [&report, &json] {
+        crate::output_guard::refuse_unless_force(
+            path,
+            args.force,
+            "a cross-validation report",
+            "give another --out",
+        )?;
+    }
+    let table = TableKind::of(&dataset).ok().map(|kind| kind.describe());
+    // A missing `profile` column is named here, before any model is read.
+    let families = profile_names(&dataset)?;
+    let mut results = Vec::new();
+    for mapping in mappings {
+        let params = TrainedModel::load(&args.models, mapping.name)
+            .with_context(|| {
+                format!(
+                    "reading the hyper-parameters of `{}` from {} (train first, or give --models)",
+                    mapping.name,
+                    args.models.display()
+                )
+            })?
+            .meta()
+            .hyper_parameters
+            .clone();
+        let samples = Samples::from_dataset(&dataset, mapping)?;
+        warn_skipped(mapping, &samples);
+        let n = family_names(&samples)?.len();
+        eprintln!(
+            "cross-validate {}: {} rows, {n} profile families, trees: {}",
+            mapping.name,
+            samples.n_rows(),
+            describe(&params)
+        );
+        let finished = AtomicUsize::new(0);
+        let cv = FamilyCv::run(mapping, &samples, &params, &|fold| {
+            let k = finished.fetch_add(1, Ordering::Relaxed) + 1;
+            eprintln!(
+                "  {} [{k}/{n}] left out `{}`: {} rows",
+                mapping.name, fold.family, fold.variants[0].all.rows
+            );
+        })
+        .with_context(|| format!("cross-validating `{}`", mapping.name))?;
+        results.push(cv);
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    let record = Record {
+        data: dataset.source_name(),
+        fnv1a_64: format!("{:016x}", dataset.fingerprint()),
+        table,
+        families,
+        models: args.models.display().to_string(),
+        seconds,
+        mappings: &results,
+    };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    std::fs::write(&json, serde_json::to_string_pretty(&record)? + "\n")
+        .with_context(|| format!("writing {}", json.display()))?;
+    std::fs::write(&report, markdown(&record, &args.models))
+        .with_context(|| format!("writing {}", report.display()))?;
+    eprintln!(
+        "cross-validation of {} mapping(s) in {seconds:.1} s: {} and {}",
+        results.len(),
+        report.display(),
+        json.display()
+    );
+    Ok(())
+}
+
+/// The report: what was done, then per mapping a summary and one table per output.
+fn markdown(record: &Record, models: &Path) -> String {
+    let mut md = String::from("# Leave-one-family-out cross-validation\n\n");
+    let _ = writeln!(
+        md,
+        "Data: `{}`{} (FNV-1a 64 `{}`), {} profile families (the `profile` column: shape \
+         and amplitude of the forcing). Each fold holds out one family and fits, on the other \
+         families' rows, the training domain and three variants: XGBoost alone, the physics \
+         backbone alone (`mu = A J^b`, `phi_loc` from eq 6.7) and backbone + XGBoost (trees on \
+         the backbone's residual), the trees with the hyper-parameters of the models in `{}`. \
+         Errors: relative L2 error of eq 6.6 on the held-out rows, outputs min-max scaled \
+         with the fold's training ranges; \"in\" and \"out\" are the rows inside and outside \
+         the fold's training domain. {:.1} s in all.\n",
+        record.data,
+        record
+            .table
+            .as_ref()
+            .map_or_else(String::new, |t| format!(", {t}")),
+        record.fnv1a_64,
+        record.families.len(),
+        models.display(),
+        record.seconds
+    );
+    for cv in record.mappings {
+        mapping_section(&mut md, cv);
+    }
+    md
+}
+
+fn mapping_section(md: &mut String, cv: &FamilyCv) {
+    let mapping = Mapping::by_name(&cv.mapping).ok();
+    let _ = writeln!(
+        md,
+        "## Mapping `{}`{}\n\n{} rows ({} skipped for an empty cell); trees: {}.\n",
+        cv.mapping,
+        mapping.map_or_else(String::new, |m| format!(
+            ": ({}) -> ({})",
+            m.features.join(", "),
+            m.outputs.join(", ")
+        )),
+        cv.rows,
+        cv.skipped_rows,
+        describe(&cv.hyper_parameters)
+    );
+    let _ = writeln!(
+        md,
+        "Mean over the held-out families (in parentheses: families with such rows).\n\n\
+         | output | variant | all | in domain | out of domain |\n|---|---|---|---|---|"
+    );
+    for (j, output) in cv.outputs.iter().enumerate() {
+        for s in &cv.summary {
+            let cell = |m: &MeanErrors| match &m.per_output {
+                Some(e) => format!("{} ({})", percent(e[j]), m.families),
+                None => "-".to_owned(),
+            };
+            let _ = writeln!(
+                md,
+                "| {output} | {} | {} | {} | {} |",
+                s.variant.label(),
+                cell(&s.all),
+                cell(&s.in_domain),
+                cell(&s.out_of_domain)
+            );
+        }
+    }
+    md.push('\n');
+    for (j, output) in cv.outputs.iter().enumerate() {
+        let labels: Vec<&str> = Variant::ALL.iter().map(|v| v.label()).collect();
+        let _ = writeln!(
+            md,
+            "### `{output}` by held-out family (all / in / out)\n\n\
+             | family | rows (in / out) | {} |\n|---|---|{}",
+            labels.join(" | "),
+            "---|".repeat(labels.len())
+        );
+        for fold in &cv.folds {
+            let v0 = &fold.variants[0];
+            let cells: Vec<String> = fold
+                .variants
+                .iter()
+                .map(|v| match &v.not_applicable {
+                    Some(_) => "n/a".to_owned(),
+                    None => [&v.all, &v.in_domain, &v.out_of_domain]
+                        .map(|e| error_cell(e, j))
+                        .join(" / "),
+                })
+                .collect();
+            let _ = writeln!(
+                md,
+                "| `{}` | {} ({} / {}) | {} |",
+                fold.family.replace('|', "\\|"),
+                v0.all.rows,
+                v0.in_domain.rows,
+                v0.out_of_domain.rows,
+                cells.join(" | ")
+            );
+        }
+        md.push('\n');
+    }
+    for fold in &cv.folds {
+        for v in &fold.variants {
+            if let Some(why) = &v.not_applicable {
+                let _ = writeln!(
+                    md,
+                    "n/a: {} with `{}` held out: {why}\n",
+                    v.variant.label(),
+                    fold.family
+                );
+            }
+        }
+    }
+}
+
+/// One output's error as a percentage, `-` for a class without rows.
+fn error_cell(errors: &RowErrors, output: usize) -> String {
+    errors
+        .per_output
+        .as_ref()
+        .map_or_else(|| "-".to_owned(), |e| percent(e[output]))
+}

@@ -12,12 +12,22 @@
 //! a velocity extremum have J near 0, Delta_v spikes where u_inf crosses 0) is scaled on its
 //! logarithm, so that a factor of two counts the same at small and large values.
 //!
+//! Scene-level features: a feature that is the same in every row of each training
+//! simulation (the volume fraction phi) is a parameter of the scene that the grid samples at
+//! a few levels. It is checked by range only and left out of the distance: between two of
+//! its levels the distance would be set by the grid's spacing, while the nearest rows of
+//! other simulations, which set the threshold (below), mostly share a level; a flow at
+//! phi = 0.54 between training levels 0.53 and 0.58 would be called outside however well
+//! its local state is covered.
+//!
 //! Threshold: for every training row, the distance to the nearest training row of *another*
 //! simulation (group); the threshold is the [`THRESHOLD_QUANTILE`] quantile of those
 //! distances. A new flow is thus called inside when it lies as close to the training set
 //! as 95 % of the training simulations' bins lie to the other simulations. Taking the
 //! distance to other simulations (not to any row) matters: neighbouring bins of one profile
 //! are almost always close to each other and would make the threshold meaninglessly small.
+
+use std::collections::HashMap;
 
 use ndarray::{ArrayView1, ArrayView2, Axis};
 use rayon::prelude::*;
@@ -39,22 +49,40 @@ pub struct FeatureAxis {
     pub range: Range,
     /// Whether the coordinate is the scaled logarithm of the feature.
     pub log: bool,
+    /// Whether the feature is a parameter of the scene (the same in every row of each
+    /// training simulation, like the volume fraction phi): checked by range only, left out
+    /// of the distance.
+    #[serde(default)]
+    pub scene_level: bool,
 }
 
 impl FeatureAxis {
-    fn fit(column: ArrayView1<f64>) -> Self {
+    /// The axis of `column`, whose rows belong to the simulations `groups`.
+    fn fit(column: ArrayView1<f64>, groups: &[String]) -> Self {
         let range = Range {
             min: column.fold(f64::INFINITY, |a, &b| a.min(b)),
             max: column.fold(f64::NEG_INFINITY, |a, &b| a.max(b)),
         };
         let log = range.min > 0.0 && range.max > LOG_SPAN * range.min;
-        FeatureAxis { range, log }
+        let mut value_of_group: HashMap<&str, f64> = HashMap::new();
+        let scene_level = column
+            .iter()
+            .zip(groups)
+            .all(|(&x, g)| *value_of_group.entry(g.as_str()).or_insert(x) == x);
+        FeatureAxis {
+            range,
+            log,
+            scene_level,
+        }
     }
 
     /// The coordinate of value `x`: 0 at the training minimum, 1 at the maximum (a constant
     /// feature maps to 0); values outside the range map outside [0, 1]. A non-positive value
-    /// on a log axis lies infinitely far below the range.
+    /// on a log axis lies infinitely far below the range. A scene-level feature maps to 0.
     fn coordinate(&self, x: f64) -> f64 {
+        if self.scene_level {
+            return 0.0;
+        }
         let (lo, hi, v) = if self.log {
             if x <= 0.0 {
                 return f64::NEG_INFINITY;
@@ -107,10 +135,13 @@ impl TrainingDomain {
     /// threshold compares simulations with each other).
     pub fn fit(samples: &Samples) -> Result<Self> {
         let features = samples.features.view();
-        let axes: Vec<FeatureAxis> = features.axis_iter(Axis(1)).map(FeatureAxis::fit).collect();
+        let groups = &samples.groups;
+        let axes: Vec<FeatureAxis> = features
+            .axis_iter(Axis(1))
+            .map(|column| FeatureAxis::fit(column, groups))
+            .collect();
         let points = coordinates(&axes, features);
         let n_features = axes.len();
-        let groups = &samples.groups;
         let mut nearest: Vec<f64> = (0..samples.n_rows())
             .into_par_iter()
             .map(|i| {

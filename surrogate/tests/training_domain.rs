@@ -82,6 +82,55 @@ fn rows_beyond_the_range_or_far_from_every_simulation_are_outside() {
 }
 
 #[test]
+fn a_scene_level_feature_is_checked_by_range_only() {
+    // Phi at two levels, 0.50 and 0.58, two simulations per level; J and Theta vary within
+    // each simulation, the simulations' Theta 0.001 apart (span 0.015).
+    let mut rows = Vec::new();
+    let scenes = [
+        ("a", 0.50, 0.0),
+        ("b", 0.58, 0.001),
+        ("c", 0.50, 0.002),
+        ("d", 0.58, 0.003),
+    ];
+    for (scene, phi, offset) in scenes {
+        for bin in 0..4 {
+            let x = bin as f64;
+            rows.push((scene, 0.01 * (1.0 + x), 0.05 + offset + 0.004 * x, phi));
+        }
+    }
+    let domain = TrainingDomain::fit(&samples(&csv(&rows))).unwrap();
+    assert_eq!(
+        domain
+            .axes
+            .iter()
+            .map(|a| a.scene_level)
+            .collect::<Vec<_>>(),
+        [false, false, true],
+        "phi is the same in every row of a simulation, J and Theta are not"
+    );
+    let checks = domain
+        .check(
+            array![
+                [0.02, 0.054, 0.54], // a local state the training rows hold, between phi levels
+                [0.02, 0.054, 0.60], // phi beyond its range
+                [0.02, 0.2, 0.54],   // Theta beyond its range
+            ]
+            .view(),
+        )
+        .unwrap();
+    let inside: Vec<bool> = checks.iter().map(|c| c.inside()).collect();
+    assert_eq!(inside, [true, false, false], "{checks:?}");
+    // With phi in the distance, the first row would lie half the phi span from every
+    // training row, far beyond the threshold (the other simulations' rows lie at most
+    // 0.005/0.016 apart in Theta).
+    assert!(
+        0.5 > 2.0 * domain.threshold,
+        "threshold {}",
+        domain.threshold
+    );
+}
+
+#[test]
 fn one_simulation_has_no_domain() {
     let rows = [("a", 0.01, 0.05, 0.54), ("a", 0.02, 0.06, 0.54)];
     let err = TrainingDomain::fit(&samples(&csv(&rows))).unwrap_err();

@@ -1,7 +1,7 @@
 //! `suspflow report` in quick mode on tiny scenes (tests/grids/tiny.toml, about 50 particles)
 //! and one swept stability parameter (6 dt multiples x 4 stiffnesses), with the shipped
 //! datasets and models: every section and figure is produced, errors fall with averaging,
-//! more trees fit better, the automatic dt is stable, and a step 16x too large is caught
+//! the tuned trees fit better than a few, the automatic dt is stable, and a step 16x too large is caught
 //! with its cause named instead of ending in NaN.
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -90,20 +90,29 @@ fn quick_report_on_tiny_scenes_has_every_section_and_names_failures() {
         "phi_loc error does not fall with averaging: {short} -> {long}"
     );
 
-    // Section 2: 1000 trees fit the validation set better than 3, for every output.
+    // Section 2: the tuned number of trees fits the validation set better than 3 trees, for
+    // every output (with the physics backbone, more trees than the tuned number need not
+    // help: at eta 0.3 they start to fit the training runs' noise).
     for mapping in ["mu", "theta", "dv"] {
         let few = rows(&md, &format!("| {mapping} | 3 |"));
-        let many = rows(&md, &format!("| {mapping} | 1000 |"));
-        assert_eq!((few.len(), many.len()), (1, 1));
+        let tuned: Vec<Vec<&str>> = rows(&md, &format!("| {mapping} | "))
+            .into_iter()
+            .filter(|row| row[2].ends_with("(tuned)"))
+            .collect();
+        assert_eq!(
+            (few.len(), tuned.len()),
+            (1, 1),
+            "{mapping}: rows of 3 and of the tuned trees"
+        );
         let errors = |cell: &str| -> Vec<f64> {
             cell.split(", ")
                 .map(|p| percent(p.split_once(' ').unwrap().1))
                 .collect()
         };
-        for (a, b) in errors(few[0][4]).iter().zip(errors(many[0][4])) {
+        for (a, b) in errors(few[0][4]).iter().zip(errors(tuned[0][4])) {
             assert!(
                 b < *a,
-                "{mapping}: 1000 trees {b} % not better than 3 trees {a} %"
+                "{mapping}: the tuned trees' {b} % not better than 3 trees' {a} %"
             );
         }
     }

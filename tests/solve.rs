@@ -106,14 +106,16 @@ fn compare_needs_the_scene_in_the_simulated_file() {
 }
 
 #[test]
-fn a_flow_beyond_the_trees_range_is_refused_not_half_solved() {
-    // scenes/quick.toml: amplitude 0.2 in a box 20 high, eight times the training shear.
+fn a_solve_that_does_not_converge_is_refused_not_half_solved() {
+    // scenes/quick.toml: amplitude 0.2 in a box 20 high. The shipped trees' Newton iteration
+    // stalls there (the trees are piecewise constant); the solve must say so and write
+    // nothing, and the local rheology must still solve it.
     let out = scratch("quick");
     let result = suspflow(&["solve", "scenes/quick.toml", "--out", s(&out)]);
     assert!(!result.status.success());
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert!(
-        stderr.contains("did not converge") && stderr.contains("training range"),
+        stderr.contains("did not converge") && stderr.contains("--closure local"),
         "{stderr}"
     );
     assert!(!out.join("profile.csv").exists());

@@ -314,7 +314,11 @@ impl ProfileProblem {
         while norm(&r) > TOLERANCE {
             if iterations == MAX_ITERATIONS {
                 return Err(SurrogateError::NotConverged {
-                    reason: format!("{MAX_ITERATIONS} iterations were not enough"),
+                    reason: format!(
+                        "{MAX_ITERATIONS} iterations were not enough (a closure of boosted \
+                         trees is piecewise constant, smoothed only over +-10 % in J and \
+                         Delta_v: try --closure local)"
+                    ),
                     iterations,
                     residual: norm(&r),
                 });

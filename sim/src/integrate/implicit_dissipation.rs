@@ -177,26 +177,23 @@ impl ImplicitDissipation {
             }
             s
         };
-        self.partial_sums.clear();
-        if self.rows.len() < 2 * PARALLEL_MIN_PARTICLES {
-            let chunks = self.rows.chunks_mut(ROW_CHUNK).zip(
-                self.z
-                    .chunks_mut(ROW_CHUNK)
-                    .zip(self.w.chunks_mut(ROW_CHUNK)),
-            );
-            self.partial_sums.extend(chunks.enumerate().map(chunk));
+        // Below the parallel threshold, one task runs every chunk in order.
+        let min_chunks = if self.rows.len() < 2 * PARALLEL_MIN_PARTICLES {
+            usize::MAX
         } else {
-            self.rows
-                .par_chunks_mut(ROW_CHUNK)
-                .zip(
-                    self.z
-                        .par_chunks_mut(ROW_CHUNK)
-                        .zip(self.w.par_chunks_mut(ROW_CHUNK)),
-                )
-                .enumerate()
-                .map(chunk)
-                .collect_into_vec(&mut self.partial_sums);
-        }
+            1
+        };
+        self.rows
+            .par_chunks_mut(ROW_CHUNK)
+            .zip(
+                self.z
+                    .par_chunks_mut(ROW_CHUNK)
+                    .zip(self.w.par_chunks_mut(ROW_CHUNK)),
+            )
+            .enumerate()
+            .with_min_len(min_chunks)
+            .map(chunk)
+            .collect_into_vec(&mut self.partial_sums);
         self.partial_sums
             .iter()
             .fold((0.0, 0.0), |s, p| (s.0 + p.0, s.1 + p.1))
@@ -231,13 +228,13 @@ impl ImplicitDissipation {
             row.diagonal = mass;
             if let Some((eta, profile)) = drag {
                 let a = p.radius[i];
-                let (u, du_dy) = profile.u_and_slope(p.pos[i].y);
+                let y = p.pos[i].y;
                 // The drag load at rest is the inflow term `D V_inf`.
                 if rotational {
-                    row.r += drag::torque(eta, a, du_dy, &Vec3::zeros()) * dt;
+                    row.r += drag::torque(eta, a, profile.du_dy(y), &Vec3::zeros()) * dt;
                     row.diagonal += dt * drag::rotational_resistance(eta, a);
                 } else {
-                    row.r += drag::force(eta, a, u, &Vec3::zeros()) * dt;
+                    row.r += drag::force(eta, a, profile.u(y), &Vec3::zeros()) * dt;
                     row.diagonal += dt * drag::translational_resistance(eta, a);
                 }
             }

@@ -1,14 +1,13 @@
-//! Per-chunk buffers of the parallel pair loops (forces, the implicit step's resistance
-//! products and its preconditioner blocks): chunk 0 adds straight into the output, chunk
-//! k >= 1 into its own buffer covering particles from its first row on (a half list has
-//! j > i), and the buffers are added in chunk order, so the same chunking always gives the
-//! same bits.
+//! Per-chunk buffers of the force evaluation's parallel pair loop: chunk 0 adds straight
+//! into the output, chunk k >= 1 into its own buffer covering particles from its first
+//! row on (a half list has j > i), and the buffers are added in chunk order, so the same
+//! chunking always gives the same bits.
 use crate::Vec3;
 use std::ops::AddAssign;
 
 /// Buffers of the chunks after the first, reused from call to call (no allocation once
-/// they have grown to size). `T` is the per-particle quantity: a load ([`Vec3`]) or a
-/// 3x3 block; its `Default` is zero.
+/// they have grown to size). `T` is the per-particle quantity, a load ([`Vec3`]); its
+/// `Default` is zero.
 pub struct ChunkBuffers<T = Vec3> {
     buffers: Vec<(Vec<T>, Vec<T>)>,
 }

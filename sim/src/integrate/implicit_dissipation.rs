@@ -9,21 +9,18 @@
 //! (each particle's own 3x3 blocks inverted), warm-started from `V`.
 //!
 //! The product `A d` of the search direction is carried by recurrence: with `z` the
-//! preconditioned residual, `d' = z + beta d` gives `A d' = A z + beta A d`, so each
-//! iteration takes one product of the network (`R z`) and two sweeps over the rows, the
-//! least the two scalar products of conjugate gradients allow.
+//! preconditioned residual, `d' = z + beta d` gives `A d' = A z + beta A d`. Each
+//! iteration is then two parallel passes, the least its two scalar products allow: the
+//! product `R z` with the update of `d` and `A d` (and `d . A d`), then the update of the
+//! solution, residual and `z` (and `r . z`). Every pass works range by range on the
+//! network's ranges of particles (see `resistance_network`), each range's rows written by
+//! one thread.
 use crate::forces::drag;
-use crate::forces::force_accumulation::PARALLEL_MIN_PARTICLES;
-use crate::forces::resistance_network::ResistanceNetwork;
+use crate::forces::resistance_network::{Motion, ResistanceNetwork};
 use crate::input::flow_profile::FlowProfile;
 use crate::integrate::particles::Particles;
 use crate::Vec3;
 use nalgebra::Matrix3;
-use rayon::prelude::*;
-
-/// Rows per chunk of the sweeps. Partial sums of the dot products are taken chunk by chunk
-/// and added in chunk order, so they do not depend on the thread count.
-const ROW_CHUNK: usize = 1024;
 
 /// The conjugate-gradient state of one row of the system (one particle's translation or
 /// rotation).
@@ -31,7 +28,7 @@ const ROW_CHUNK: usize = 1024;
 struct Row {
     /// Current solution.
     x: Vec3,
-    /// Residual `b - A x` (the right-hand side `b` before the first sweep).
+    /// Residual `b - A x` (the right-hand side `b` before the first product).
     r: Vec3,
     /// Search direction.
     d: Vec3,
@@ -39,12 +36,70 @@ struct Row {
     q: Vec3,
     /// `m + dt 6 pi eta a` (translation) or `I + dt 8 pi eta a^3` (rotation).
     diagonal: f64,
-    /// Inverse of the row's 3x3 block of the system matrix.
+    /// Inverse of the row's 3x3 block of the system matrix (before the first product: the
+    /// row's block of `R`).
     preconditioner: Matrix3<f64>,
 }
 
-/// One chunk of the rows with their `z` and `w` entries.
-type RowChunk<'a> = (&'a mut [Row], (&'a mut [Vec3], &'a mut [Vec3]));
+/// A particle's two rows: translation, rotation.
+type Rows = [Row; 2];
+
+/// Two scalar products summed over rows.
+#[derive(Clone, Copy, Debug, Default)]
+struct Sums(f64, f64);
+
+impl std::ops::Add for Sums {
+    type Output = Sums;
+    fn add(self, o: Sums) -> Sums {
+        Sums(self.0 + o.0, self.1 + o.1)
+    }
+}
+
+/// Runs `f(k, first, rows, entries)` on every range `k` of `bounds` (particles
+/// `first..bounds[k + 1]`, with their rows and entries), in parallel: the list of ranges
+/// is halved at each fork and the halves' sums added, so the same bounds give the same
+/// bits. `k0` is the number of the first range.
+fn for_ranges<E: Send>(
+    bounds: &[usize],
+    k0: usize,
+    rows: &mut [Rows],
+    entries: &mut [E],
+    f: &(impl Fn(usize, usize, &mut [Rows], &mut [E]) -> Sums + Sync),
+) -> Sums {
+    if bounds.len() <= 2 {
+        return f(k0, bounds[0], rows, entries);
+    }
+    let mid = bounds.len() / 2;
+    let split = bounds[mid] - bounds[0];
+    let (rows_a, rows_b) = rows.split_at_mut(split);
+    let (entries_a, entries_b) = entries.split_at_mut(split);
+    let (a, b) = rayon::join(
+        || for_ranges(&bounds[..=mid], k0, rows_a, entries_a, f),
+        || for_ranges(&bounds[mid..], k0 + mid, rows_b, entries_b, f),
+    );
+    a + b
+}
+
+/// Applies `f(m, c, row, entry)` to row `c` (0 translation, 1 rotation) of every particle
+/// `m` of a range, in order, and sums its outputs.
+fn each_row(
+    rows: &mut [Rows],
+    entries: &mut [Motion],
+    mut f: impl FnMut(usize, usize, &mut Row, &mut Vec3) -> Sums,
+) -> Sums {
+    let mut sums = Sums::default();
+    for (m, (rows, entries)) in rows.iter_mut().zip(entries).enumerate() {
+        for (c, (row, entry)) in rows.iter_mut().zip(entries).enumerate() {
+            sums = sums + f(m, c, row, entry);
+        }
+    }
+    sums
+}
+
+/// A row's terms of `r . z` and `|r|^2`.
+fn residual_terms(row: &Row, z: &Vec3) -> Sums {
+    Sums(row.r.dot(z), row.r.norm_squared())
+}
 
 /// Outcome of one solve.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -72,18 +127,14 @@ pub struct SolveSettings {
     pub max_iterations: usize,
 }
 
-/// Work arrays of the solve, reused every step: the N translational rows, then the N
-/// rotational ones. The input and output of the network's product are kept apart,
-/// contiguous: `z` (the preconditioned residual, or the warm start for the first product)
-/// and `w` (the product, zeroed by the sweep that uses it).
+/// Work arrays of the solve, reused every step, one entry per particle. The input and
+/// output of the network's product are kept apart: `z` (the preconditioned residual) and
+/// `w` (the product `R z`; the warm start before the first product).
 #[derive(Default)]
 pub struct ImplicitDissipation {
-    rows: Vec<Row>,
-    z: Vec<Vec3>,
-    w: Vec<Vec3>,
-    /// Each row's 3x3 block of `R` (the pairs' share of its preconditioner).
-    blocks: Vec<Matrix3<f64>>,
-    partial_sums: Vec<(f64, f64)>,
+    rows: Vec<Rows>,
+    z: Vec<Motion>,
+    w: Vec<Motion>,
 }
 
 impl ImplicitDissipation {
@@ -99,23 +150,29 @@ impl ImplicitDissipation {
         settings: SolveSettings,
     ) -> Result<SolveStats, SolveFailure> {
         let n = p.len();
-        let b_norm = self.prepare(p, network, drag, dt).sqrt();
+        self.rows.resize(n, Rows::default());
+        self.z.resize(n, Motion::default());
+        self.w.resize(n, Motion::default());
+        network.index_crossings();
+        let net: &ResistanceNetwork = network;
+        let bounds = &net.bounds;
+        let b_norm = self.prepare(p, net, drag, dt).sqrt();
         let mut stats = SolveStats::default();
-        // Start: the product of the warm start (in z after `prepare`), the preconditioner
+        // Start: the product of the warm start (in w after `prepare`), the preconditioner
         // blocks inverted, r = b - A x, z = P r.
-        network.apply(&self.z, &mut self.w);
-        let blocks = std::mem::take(&mut self.blocks);
-        let mut rz = self.sweep(|k, row, z, w| {
-            // Symmetric positive definite (its diagonal part alone is), so invertible.
-            row.preconditioner = (Matrix3::identity() * row.diagonal + blocks[k] * dt)
-                .try_inverse()
-                .unwrap_or_else(Matrix3::zeros);
-            row.r -= *w * dt + row.x * row.diagonal;
-            *w = Vec3::zeros();
-            *z = row.preconditioner * row.r;
-            (row.r.dot(z), row.r.norm_squared())
+        let w = &self.w;
+        let mut rz = for_ranges(bounds, 0, &mut self.rows, &mut self.z, &|k, _, rows, z| {
+            net.product_on(k, w, z);
+            each_row(rows, z, |_, _, row, z| {
+                // Symmetric positive definite (its diagonal part alone is), so invertible.
+                row.preconditioner = (Matrix3::identity() * row.diagonal + row.preconditioner * dt)
+                    .try_inverse()
+                    .unwrap_or_else(Matrix3::zeros);
+                row.r -= *z * dt + row.x * row.diagonal;
+                *z = row.preconditioner * row.r;
+                residual_terms(row, z)
+            })
         });
-        self.blocks = blocks;
         let mut rz_last = 0.0;
         loop {
             stats.residual = if b_norm > 0.0 {
@@ -127,122 +184,102 @@ impl ImplicitDissipation {
                 break;
             }
             if !stats.residual.is_finite() || stats.iterations >= settings.max_iterations {
-                let particle = (0..2 * n)
-                    .max_by(|&a, &c| self.rows[a].r.norm().total_cmp(&self.rows[c].r.norm()))
-                    .map_or(0, |row| row % n.max(1));
+                let residual = |m: usize| self.rows[m][0].r.norm().max(self.rows[m][1].r.norm());
+                let particle = (0..n)
+                    .max_by(|&a, &c| residual(a).total_cmp(&residual(c)))
+                    .unwrap_or(0);
                 return Err(SolveFailure { stats, particle });
             }
-            // d = z + beta d and A d = A z + beta A d (d = z on the first iteration).
-            network.apply(&self.z, &mut self.w);
+            // w = R z, then d = z + beta d and A d = A z + beta A d (d = z on the first
+            // iteration).
             let beta = (stats.iterations > 0).then(|| rz.0 / rz_last);
-            let dq = self.sweep(|_, row, z, w| {
-                let az = *w * dt + *z * row.diagonal;
-                *w = Vec3::zeros();
-                (row.d, row.q) = match beta {
-                    Some(beta) => (*z + row.d * beta, az + row.q * beta),
-                    None => (*z, az),
-                };
-                (row.d.dot(&row.q), 0.0)
-            });
+            let z = &self.z;
+            let dq = for_ranges(
+                bounds,
+                0,
+                &mut self.rows,
+                &mut self.w,
+                &|k, first, rows, w| {
+                    net.product_on(k, z, w);
+                    each_row(rows, w, |m, c, row, w| {
+                        let z = z[first + m][c];
+                        let az = *w * dt + z * row.diagonal;
+                        (row.d, row.q) = match beta {
+                            Some(beta) => (z + row.d * beta, az + row.q * beta),
+                            None => (z, az),
+                        };
+                        Sums(row.d.dot(&row.q), 0.0)
+                    })
+                },
+            );
             let alpha = rz.0 / dq.0;
-            let next = self.sweep(|_, row, z, _| {
-                row.x += row.d * alpha;
-                row.r -= row.q * alpha;
-                *z = row.preconditioner * row.r;
-                (row.r.dot(z), row.r.norm_squared())
+            let next = for_ranges(bounds, 0, &mut self.rows, &mut self.z, &|_, _, rows, z| {
+                each_row(rows, z, |_, _, row, z| {
+                    row.x += row.d * alpha;
+                    row.r -= row.q * alpha;
+                    *z = row.preconditioner * row.r;
+                    residual_terms(row, z)
+                })
             });
             rz_last = rz.0;
             rz = next;
             stats.iterations += 1;
         }
-        for (i, (v, w)) in p.vel.iter_mut().zip(p.omega.iter_mut()).enumerate() {
-            (*v, *w) = (self.rows[i].x, self.rows[n + i].x);
+        for ((v, w), rows) in p.vel.iter_mut().zip(p.omega.iter_mut()).zip(&self.rows) {
+            (*v, *w) = (rows[0].x, rows[1].x);
         }
         Ok(stats)
     }
 
-    /// Applies `f(index, row, z, w)` to every row, in parallel chunks when the system is
-    /// large enough, and returns the sums of its two outputs in chunk order.
-    fn sweep(
-        &mut self,
-        f: impl Fn(usize, &mut Row, &mut Vec3, &mut Vec3) -> (f64, f64) + Sync + Send,
-    ) -> (f64, f64) {
-        let chunk = |(k, (rows, (z, w))): (usize, RowChunk)| {
-            let mut s = (0.0, 0.0);
-            let rows = rows.iter_mut().zip(z.iter_mut().zip(w.iter_mut()));
-            for (r, (row, (z, w))) in rows.enumerate() {
-                let (a, b) = f(k * ROW_CHUNK + r, row, z, w);
-                s.0 += a;
-                s.1 += b;
-            }
-            s
-        };
-        // Below the parallel threshold, one task runs every chunk in order.
-        let min_chunks = if self.rows.len() < 2 * PARALLEL_MIN_PARTICLES {
-            usize::MAX
-        } else {
-            1
-        };
-        self.rows
-            .par_chunks_mut(ROW_CHUNK)
-            .zip(
-                self.z
-                    .par_chunks_mut(ROW_CHUNK)
-                    .zip(self.w.par_chunks_mut(ROW_CHUNK)),
-            )
-            .enumerate()
-            .with_min_len(min_chunks)
-            .map(chunk)
-            .collect_into_vec(&mut self.partial_sums);
-        self.partial_sums
-            .iter()
-            .fold((0.0, 0.0), |s, p| (s.0 + p.0, s.1 + p.1))
-    }
-
-    /// Sizes the work arrays, sums each row's block of `R` into `blocks` and fills each
-    /// row's warm start `x = V` (also in `z`, the input of the first product), right-hand
-    /// side (in `r`) and diagonal; returns `|b|^2`.
+    /// Fills each row's warm start `x = V` (also in `w`, the input of the first
+    /// product), right-hand side (in `r`), diagonal, and block of `R` (in
+    /// `preconditioner`); returns `|b|^2`.
     fn prepare(
         &mut self,
         p: &Particles,
-        network: &mut ResistanceNetwork,
+        network: &ResistanceNetwork,
         drag: Option<(f64, &FlowProfile)>,
         dt: f64,
     ) -> f64 {
-        let n = p.len();
-        self.rows.resize(2 * n, Row::default());
-        self.z.resize(2 * n, Vec3::zeros());
-        self.w.resize(2 * n, Vec3::zeros());
-        self.blocks.resize(2 * n, Matrix3::zeros());
-        let b_squared = self.sweep(|k, row, z, w| {
-            let (i, rotational) = (k % n, k >= n);
-            let (v, load, mass) = if rotational {
-                (p.omega[i], p.torque[i], p.inertia(i))
-            } else {
-                (p.vel[i], p.force[i], p.mass[i])
-            };
-            row.x = v;
-            *z = v;
-            *w = Vec3::zeros();
-            row.r = v * mass + load * dt;
-            row.diagonal = mass;
-            if let Some((eta, profile)) = drag {
-                let a = p.radius[i];
-                let y = p.pos[i].y;
-                // The drag load at rest is the inflow term `D V_inf`.
-                if rotational {
-                    row.r += drag::torque(eta, a, profile.du_dy(y), &Vec3::zeros()) * dt;
-                    row.diagonal += dt * drag::rotational_resistance(eta, a);
-                } else {
-                    row.r += drag::force(eta, a, profile.u(y), &Vec3::zeros()) * dt;
-                    row.diagonal += dt * drag::translational_resistance(eta, a);
-                }
-            }
-            (row.r.norm_squared(), 0.0)
-        });
-        self.blocks.fill(Matrix3::zeros());
-        let (translation, rotation) = self.blocks.split_at_mut(n);
-        network.diagonal_blocks(translation, rotation);
-        b_squared.0
+        let sums = for_ranges(
+            &network.bounds,
+            0,
+            &mut self.rows,
+            &mut self.w,
+            &|k, first, rows, w| {
+                let sums = each_row(rows, w, |m, c, row, w| {
+                    let (i, rotational) = (first + m, c == 1);
+                    let (v, load, mass) = if rotational {
+                        (p.omega[i], p.torque[i], p.inertia(i))
+                    } else {
+                        (p.vel[i], p.force[i], p.mass[i])
+                    };
+                    row.x = v;
+                    *w = v;
+                    row.r = v * mass + load * dt;
+                    row.diagonal = mass;
+                    row.preconditioner = Matrix3::zeros();
+                    if let Some((eta, profile)) = drag {
+                        let a = p.radius[i];
+                        let y = p.pos[i].y;
+                        // The drag load at rest is the inflow term `D V_inf`.
+                        if rotational {
+                            row.r += drag::torque(eta, a, profile.du_dy(y), &Vec3::zeros()) * dt;
+                            row.diagonal += dt * drag::rotational_resistance(eta, a);
+                        } else {
+                            row.r += drag::force(eta, a, profile.u(y), &Vec3::zeros()) * dt;
+                            row.diagonal += dt * drag::translational_resistance(eta, a);
+                        }
+                    }
+                    Sums(row.r.norm_squared(), 0.0)
+                });
+                network.diagonal_blocks_on(k, |m, translation, rotation| {
+                    rows[m][0].preconditioner += translation;
+                    rows[m][1].preconditioner += rotation;
+                });
+                sums
+            },
+        );
+        sums.0
     }
 }

@@ -69,20 +69,42 @@ pub struct ForceAccumulator {
 }
 
 impl ForceAccumulator {
-    /// Splits the particles into `chunks` contiguous ranges holding about equal numbers of
-    /// pairs.
-    fn split(&mut self, list: &VerletList, chunks: usize) {
+    /// Splits the particles into `chunks` contiguous ranges of about equal work: the pairs
+    /// each lists, plus, with `crossings` (for the implicit solve, in which a range also
+    /// evaluates the pairs that cross into it from earlier ranges), those pairs, counted
+    /// on the Verlet list at the cuts of an equal split.
+    fn split(&mut self, list: &VerletList, chunks: usize, crossings: bool) {
+        self.cut(list, chunks, 0, |_| 0);
+        if crossings {
+            let extra = self.bounds[1..chunks]
+                .iter()
+                .map(|&b| list.crossing[b])
+                .sum();
+            self.cut(list, chunks, extra, |b| list.crossing[b]);
+        }
+    }
+
+    /// Sets the bounds so that each range holds `(pairs + extra) / chunks` of the listed
+    /// pairs plus the `crossing(b)` pairs that enter it at its first cut `b`.
+    fn cut(
+        &mut self,
+        list: &VerletList,
+        chunks: usize,
+        extra: usize,
+        crossing: impl Fn(usize) -> usize,
+    ) {
         let n = list.start.len() - 1;
-        let total = list.len();
+        let total = list.len() + extra;
         self.bounds.clear();
         self.bounds.push(0);
-        let mut i = 0;
+        let (mut i, mut entered) = (0, 0);
         for k in 1..chunks {
             let target = total * k / chunks;
-            while i < n && list.start[i] < target {
+            while i < n && list.start[i] + entered < target {
                 i += 1;
             }
             self.bounds.push(i);
+            entered += crossing(i);
         }
         self.bounds.push(n);
     }
@@ -109,7 +131,7 @@ impl ForceAccumulator {
         } else {
             rayon::current_num_threads().max(1)
         };
-        self.split(list, chunks);
+        self.split(list, chunks, network.is_some());
         if let Some(net) = network.as_deref_mut() {
             net.reset(&self.bounds);
         }

@@ -20,6 +20,9 @@ pub struct VerletList {
     pub reference: Vec<Vec3>,
     /// Lees-Edwards offset of the box at the build (0 without shear).
     pub reference_offset: f64,
+    /// For every cut `b` of the particle order (0..=N), the listed pairs it separates
+    /// (`i < b <= j`).
+    pub crossing: Vec<usize>,
     skin: f64,
 }
 
@@ -68,11 +71,13 @@ impl VerletList {
             start.extend(row_ends.iter().map(|end| offset + end));
             neighbours.extend_from_slice(found);
         }
+        let crossing = crossings(&start, &neighbours);
         Self {
             start,
             neighbours,
             reference: positions.to_vec(),
             reference_offset: pbox.shear_offset(),
+            crossing,
             skin,
         }
     }
@@ -135,5 +140,47 @@ impl VerletList {
             }
         }
         values
+    }
+}
+
+/// For every cut `b` of the particle order (0..=N), the pairs of the half list in
+/// `start`, `neighbours` (`j > i`) that it separates, `i < b <= j`: each pair adds one to
+/// the cuts `i + 1..=j` (a difference array, summed).
+fn crossings(start: &[usize], neighbours: &[u32]) -> Vec<usize> {
+    let n = start.len() - 1;
+    let mut change = vec![0isize; n + 2];
+    for i in 0..n {
+        for &j in &neighbours[start[i]..start[i + 1]] {
+            change[i + 1] += 1;
+            change[j as usize + 1] -= 1;
+        }
+    }
+    let mut count = 0isize;
+    change[..=n]
+        .iter()
+        .map(|c| {
+            count += c;
+            count as usize
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The difference-array count equals the count of separated pairs at every cut.
+    #[test]
+    fn crossings_count_the_pairs_each_cut_separates() {
+        // Particles 0..6; pairs (0,1) (0,4) (1,5) (2,3) (3,5) (4,5).
+        let start = [0, 2, 3, 4, 5, 6, 6];
+        let neighbours = [1, 4, 5, 3, 5, 5];
+        let pairs = [(0, 1), (0, 4), (1, 5), (2, 3), (3, 5), (4, 5)];
+        let counted = crossings(&start, &neighbours);
+        assert_eq!(counted.len(), 7);
+        for (b, &c) in counted.iter().enumerate() {
+            let expected = pairs.iter().filter(|&&(i, j)| i < b && b <= j).count();
+            assert_eq!(c, expected, "cut {b}");
+        }
     }
 }

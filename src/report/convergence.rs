@@ -8,38 +8,24 @@
 //! until n approaches the reference length.
 use sim::input::scene::Scene;
 use sim::output::dataset_columns as col;
-use sim::run::RunSummary;
-use sim::sampling::bin_averages::{BinAverages, Observables};
-use sim::sampling::run_length;
+use sim::sampling::bin_averages::Observables;
+use sim::sampling::run_length::{self, PartialAverage, SampledRun};
 use sim::SimError;
 
 /// Observables whose error is measured, with their column in [`Observables::columns`].
 pub const OBSERVABLES: [&str; 3] = [col::PHI_LOC, col::MU, col::U];
 
-/// A profile averaged over the first `snapshots` steady snapshots.
-pub struct PartialAverage {
-    pub snapshots: usize,
+/// A partial average with what the report measures on it.
+pub struct MeasuredPartial {
+    pub average: PartialAverage,
     /// Strain averaged over, `snapshots * sample_strain`.
     pub averaging_strain: f64,
-    /// Wall time from the start of the run (equilibration included) to its last snapshot, s.
-    pub wall_s: f64,
-    pub profile: BinAverages,
     /// Relative L2 difference from the reference of each of [`OBSERVABLES`].
     pub error: [f64; 3],
 }
 
 /// One scene's convergence run.
-pub struct ConvergenceRun {
-    pub scene: Scene,
-    pub summary: RunSummary,
-    /// Wall time to the steady state, s.
-    pub wall_to_steady_s: f64,
-    /// Shortest first, `partial / 2^k` snapshots down to 2 per block.
-    pub partials: Vec<PartialAverage>,
-    /// The last `reference` snapshots, 10 blocks.
-    pub reference: BinAverages,
-    pub reference_snapshots: usize,
-}
+pub type ConvergenceRun = SampledRun<MeasuredPartial>;
 
 /// Values of observable `name` in `o`.
 pub fn column<'a>(o: &'a Observables, name: &str) -> &'a [f64] {
@@ -70,31 +56,17 @@ pub fn relative_l2(a: &[f64], b: &[f64], offset: f64) -> f64 {
 pub fn run(scene: &Scene, partial: usize, reference: usize) -> Result<ConvergenceRun, SimError> {
     let sampled = run_length::sample(scene, partial, reference)?;
     let sample_strain = sampled.scene.file.run.sample_strain;
-    let partials = sampled
-        .partials
-        .into_iter()
-        .map(|p| PartialAverage {
-            snapshots: p.snapshots,
-            averaging_strain: p.snapshots as f64 * sample_strain,
-            wall_s: p.wall_s,
-            error: OBSERVABLES.map(|o| {
-                relative_l2(
-                    column(&p.averages.mean, o),
-                    column(&sampled.reference.mean, o),
-                    0.0,
-                )
-            }),
-            profile: p.averages,
-        })
-        .collect();
-    Ok(ConvergenceRun {
-        scene: sampled.scene,
-        summary: sampled.summary,
-        wall_to_steady_s: sampled.wall_to_steady_s,
-        partials,
-        reference: sampled.reference,
-        reference_snapshots: sampled.reference_snapshots,
-    })
+    Ok(sampled.map_partials(|average, reference| MeasuredPartial {
+        averaging_strain: average.snapshots as f64 * sample_strain,
+        error: OBSERVABLES.map(|o| {
+            relative_l2(
+                column(&average.averages.mean, o),
+                column(&reference.mean, o),
+                0.0,
+            )
+        }),
+        average,
+    }))
 }
 
 /// Averaging strain beyond which snapshot averages decorrelate: in the validation scenes
@@ -140,8 +112,8 @@ pub fn decorrelated_slope(run: &ConvergenceRun, observable: usize) -> f64 {
         .filter(|p| p.averaging_strain >= DECORRELATED_STRAIN - 1e-9)
         .map(|p| {
             (
-                p.snapshots as f64,
-                p.error[observable] * (r / (r + p.snapshots as f64)).sqrt(),
+                p.average.snapshots as f64,
+                p.error[observable] * (r / (r + p.average.snapshots as f64)).sqrt(),
             )
         })
         .collect();

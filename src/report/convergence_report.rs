@@ -42,9 +42,9 @@ pub fn section(runs: &[ConvergenceRun], dir: &Path) -> anyhow::Result<String> {
             let _ = writeln!(
                 md,
                 "| {} | {:.2} | {:.1} | {:.2} % | {:.2} % | {:.2} % |",
-                p.snapshots,
+                p.average.snapshots,
                 p.averaging_strain,
-                p.wall_s,
+                p.average.wall_s,
                 100.0 * p.error[0],
                 100.0 * p.error[1],
                 100.0 * p.error[2]
@@ -55,14 +55,14 @@ pub fn section(runs: &[ConvergenceRun], dir: &Path) -> anyhow::Result<String> {
             let points: Vec<(f64, f64)> = run
                 .partials
                 .iter()
-                .map(|p| (p.snapshots as f64, p.error[k]))
+                .map(|p| (p.average.snapshots as f64, p.error[k]))
                 .collect();
             let last = run
                 .partials
                 .last()
                 .expect("a convergence run has partial profiles");
             let c = noise_constant(
-                last.snapshots as f64,
+                last.average.snapshots as f64,
                 last.error[k],
                 run.reference_snapshots as f64,
             );
@@ -84,7 +84,7 @@ pub fn section(runs: &[ConvergenceRun], dir: &Path) -> anyhow::Result<String> {
                 points: run
                     .partials
                     .iter()
-                    .map(|p| (p.wall_s, p.error[k]))
+                    .map(|p| (p.average.wall_s, p.error[k]))
                     .collect(),
             });
         }

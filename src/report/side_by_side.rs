@@ -112,17 +112,18 @@ fn simulation_cost(
         .iter()
         .map(|p| {
             (
-                p.snapshots as f64,
-                relative_l2(column(&p.profile.mean, output), reference, min),
+                p.average.snapshots as f64,
+                relative_l2(column(&p.average.averages.mean, output), reference, min),
             )
         })
         .collect();
     let strain_at = |n: f64| run.summary.strain_to_steady + n * run.scene.file.run.sample_strain;
     let r = run.reference_snapshots as f64;
     let (last, &(n_last, e_last)) = (
-        run.partials
+        &run.partials
             .last()
-            .expect("a convergence run has partial profiles"),
+            .expect("a convergence run has partial profiles")
+            .average,
         points.last().expect("one error per partial profile"),
     );
     let c = noise_constant(n_last, e_last, r);
@@ -134,7 +135,11 @@ fn simulation_cost(
         .find(|(_, (_, e))| *e <= target)
     {
         return (
-            SimulationCost::Measured(p.snapshots, strain_at(p.snapshots as f64), p.wall_s),
+            SimulationCost::Measured(
+                p.average.snapshots,
+                strain_at(p.average.snapshots as f64),
+                p.average.wall_s,
+            ),
             floor,
         );
     }

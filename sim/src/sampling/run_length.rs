@@ -22,17 +22,37 @@ pub struct PartialAverage {
     pub averages: BinAverages,
 }
 
-/// One scene's sampled run.
-pub struct SampledRun {
+/// One scene's sampled run. `P` is what is kept of each partial average: the average
+/// itself, or the average with what a caller measured on it ([`SampledRun::map_partials`]).
+pub struct SampledRun<P = PartialAverage> {
     pub scene: Scene,
     pub summary: RunSummary,
     /// Wall time to the steady state, s.
     pub wall_to_steady_s: f64,
     /// Shortest first, `partial / 2^k` snapshots down to 2 per block.
-    pub partials: Vec<PartialAverage>,
+    pub partials: Vec<P>,
     /// The last `reference` snapshots, 10 blocks.
     pub reference: BinAverages,
     pub reference_snapshots: usize,
+}
+
+impl<P> SampledRun<P> {
+    /// The same run with each partial average `p` replaced by `f(p, reference)`.
+    pub fn map_partials<Q>(self, mut f: impl FnMut(P, &BinAverages) -> Q) -> SampledRun<Q> {
+        let partials = self
+            .partials
+            .into_iter()
+            .map(|p| f(p, &self.reference))
+            .collect();
+        SampledRun {
+            scene: self.scene,
+            summary: self.summary,
+            wall_to_steady_s: self.wall_to_steady_s,
+            partials,
+            reference: self.reference,
+            reference_snapshots: self.reference_snapshots,
+        }
+    }
 }
 
 /// Snapshot counts of the partial profiles: `partial / 2^k`, at least 2 per block.

@@ -3,28 +3,19 @@
 //! row on (a half list has j > i), and the buffers are added in chunk order, so the same
 //! chunking always gives the same bits.
 use crate::Vec3;
-use std::ops::AddAssign;
 
-/// Buffers of the chunks after the first, reused from call to call (no allocation once
-/// they have grown to size). `T` is the per-particle quantity, a load ([`Vec3`]); its
-/// `Default` is zero.
-pub struct ChunkBuffers<T = Vec3> {
-    buffers: Vec<(Vec<T>, Vec<T>)>,
+/// Buffers (forces, torques) of the chunks after the first, reused from call to call (no
+/// allocation once they have grown to size).
+#[derive(Default)]
+pub struct ChunkBuffers {
+    buffers: Vec<(Vec<Vec3>, Vec<Vec3>)>,
 }
 
-impl<T> Default for ChunkBuffers<T> {
-    fn default() -> Self {
-        ChunkBuffers {
-            buffers: Vec::new(),
-        }
-    }
-}
+/// Where one chunk writes: its force and torque arrays and the index of their first
+/// particle.
+pub type ChunkTarget<'a> = (&'a mut [Vec3], &'a mut [Vec3], usize);
 
-/// Where one chunk writes: its force-like and torque-like arrays and the index of their
-/// first particle.
-pub type ChunkTarget<'a, T = Vec3> = (&'a mut [T], &'a mut [T], usize);
-
-impl<T: Copy + Default + AddAssign + Send + Sync> ChunkBuffers<T> {
+impl ChunkBuffers {
     /// One target per chunk of `bounds` (chunk k covers rows `bounds[k]..bounds[k + 1]`):
     /// `first` for chunk 0, buffers covering `bounds[k]..n` for the others. The buffers
     /// hold the last call's values: each chunk zeroes its own with [`zero_buffer`], in
@@ -33,23 +24,23 @@ impl<T: Copy + Default + AddAssign + Send + Sync> ChunkBuffers<T> {
         &'a mut self,
         bounds: &[usize],
         n: usize,
-        first: (&'a mut [T], &'a mut [T]),
-    ) -> Vec<ChunkTarget<'a, T>> {
+        first: (&'a mut [Vec3], &'a mut [Vec3]),
+    ) -> Vec<ChunkTarget<'a>> {
         let chunks = bounds.len() - 1;
         self.buffers.resize_with(chunks - 1, Default::default);
-        let mut targets: Vec<ChunkTarget<'a, T>> = Vec::with_capacity(chunks);
+        let mut targets: Vec<ChunkTarget<'a>> = Vec::with_capacity(chunks);
         targets.push((first.0, first.1, 0));
         for (k, (bf, bt)) in self.buffers.iter_mut().enumerate() {
             let offset = bounds[k + 1];
-            bf.resize(n - offset, T::default());
-            bt.resize(n - offset, T::default());
+            bf.resize(n - offset, Vec3::zeros());
+            bt.resize(n - offset, Vec3::zeros());
             targets.push((bf.as_mut_slice(), bt.as_mut_slice(), offset));
         }
         targets
     }
 
     /// Adds every buffer into `a` and `b`, particle by particle in chunk order.
-    pub fn reduce_into(&self, bounds: &[usize], a: &mut [T], b: &mut [T]) {
+    pub fn reduce_into(&self, bounds: &[usize], a: &mut [Vec3], b: &mut [Vec3]) {
         use rayon::prelude::*;
         let first = bounds[1];
         let buffers = &self.buffers;
@@ -74,9 +65,9 @@ impl<T: Copy + Default + AddAssign + Send + Sync> ChunkBuffers<T> {
 
 /// Zeroes `target` if it is a chunk's buffer (offset > 0); chunk 0's target, the output
 /// itself, keeps what the caller put there.
-pub fn zero_buffer<T: Copy + Default>(target: &mut ChunkTarget<'_, T>) {
+pub fn zero_buffer(target: &mut ChunkTarget<'_>) {
     if target.2 > 0 {
-        target.0.fill(T::default());
-        target.1.fill(T::default());
+        target.0.fill(Vec3::zeros());
+        target.1.fill(Vec3::zeros());
     }
 }

@@ -305,7 +305,7 @@ fn bench_prints_json_records() {
         "--steps",
         "20",
         "--warmup",
-        "0",
+        "20",
         "--json",
     ]);
     assert_ok(&out);
@@ -315,6 +315,16 @@ fn bench_prints_json_records() {
     assert_eq!(r["lubrication"], true);
     assert!(r["n"].as_u64().unwrap().abs_diff(1000) <= 2);
     assert!(r["particle_steps_per_s"].as_f64().unwrap() > 0.0);
+    // The stages are timed inside the loop: together they are most of it, never more.
+    for r in records.as_array().unwrap() {
+        let stages = &r["stages"];
+        let staged: f64 = ["neighbours_s", "forces_s", "integration_s"]
+            .iter()
+            .map(|k| stages[k].as_f64().unwrap())
+            .sum();
+        let loop_s = r["loop_s"].as_f64().unwrap();
+        assert!(staged > 0.5 * loop_s && staged <= loop_s, "{r}");
+    }
 }
 
 /// Number of extended-XYZ frames in `path`.

@@ -7,6 +7,7 @@ use serde::Serialize;
 use sim::input::scene::{Scene, SceneFile};
 use sim::integrate::integrator::Integrator;
 use sim::integrate::simulation::Simulation;
+use sim::integrate::stage_timers::StageTimers;
 use sim::run::initial_particles;
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -64,6 +65,8 @@ struct Record {
     solver_iterations: Option<f64>,
     /// LAMMPS' time per unit strain at dt = 5e-4 over ours (with `--lammps-pps`).
     lammps_ratio: Option<f64>,
+    /// Wall seconds of the timed loop spent in each stage of the step.
+    stages: StageTimers,
 }
 
 fn parse_integrator(text: &str) -> Result<Integrator, String> {
@@ -160,6 +163,7 @@ fn measure(
         let steps = in_own_steps(args.steps).max(1);
         sim.advance(in_own_steps(args.warmup))?;
         let before = sim.solver_totals;
+        let timers_before = sim.timers;
         let t = Instant::now();
         sim.advance(steps)?;
         let loop_s = t.elapsed().as_secs_f64();
@@ -183,6 +187,7 @@ fn measure(
             lammps_ratio: args
                 .lammps_pps
                 .map(|pps| n / (pps * PEER_DT * gdot_max) / s_per_strain),
+            stages: sim.timers.since(&timers_before),
         })
     })?
 }
@@ -213,8 +218,9 @@ fn print_record(r: &Record) {
     let ratio = r.lammps_ratio.map_or(String::new(), |x| {
         format!(" lammps_time_per_strain/ours={x:.1}")
     });
+    let st = &r.stages;
     println!(
-        "n={:<6} {} threads={} lubrication={} particle_steps_per_s={:.3e} s_per_strain={:.3} loop_s={:.2} steps={} dt={:.2e} contacts/particle={:.2}{iterations}{ratio}",
-        r.n, r.integrator, r.threads, r.lubrication, r.particle_steps_per_s, r.s_per_strain, r.loop_s, r.steps, r.dt, r.contacts_per_particle
+        "n={:<6} {} threads={} lubrication={} particle_steps_per_s={:.3e} s_per_strain={:.3} loop_s={:.2} (neighbours {:.2}, forces {:.2}, integration {:.2}) steps={} dt={:.2e} contacts/particle={:.2}{iterations}{ratio}",
+        r.n, r.integrator, r.threads, r.lubrication, r.particle_steps_per_s, r.s_per_strain, r.loop_s, st.neighbours_s, st.forces_s, st.integration_s, r.steps, r.dt, r.contacts_per_particle
     );
 }

@@ -36,4 +36,14 @@ impl StageTimers {
             Stage::Sampling => self.sampling_s += s,
         }
     }
+
+    /// The time accumulated since `earlier` was read off these timers.
+    pub fn since(&self, earlier: &StageTimers) -> StageTimers {
+        StageTimers {
+            neighbours_s: self.neighbours_s - earlier.neighbours_s,
+            forces_s: self.forces_s - earlier.forces_s,
+            integration_s: self.integration_s - earlier.integration_s,
+            sampling_s: self.sampling_s - earlier.sampling_s,
+        }
+    }
 }

@@ -2,6 +2,7 @@
 //! into the output, chunk k >= 1 into its own buffer covering particles from its first
 //! row on (a half list has j > i), and the buffers are added in chunk order, so the same
 //! chunking always gives the same bits.
+use crate::integrate::particle_ranges::each_range;
 use crate::Vec3;
 
 /// Buffers (forces, torques) of the chunks after the first, reused from call to call (no
@@ -39,27 +40,22 @@ impl ChunkBuffers {
         targets
     }
 
-    /// Adds every buffer into `a` and `b`, particle by particle in chunk order.
+    /// Adds every buffer into `a` and `b`, particle by particle in chunk order, each
+    /// range of `bounds` as one task (see `particle_ranges`).
     pub fn reduce_into(&self, bounds: &[usize], a: &mut [Vec3], b: &mut [Vec3]) {
-        use rayon::prelude::*;
-        let first = bounds[1];
         let buffers = &self.buffers;
-        a[first..]
-            .par_iter_mut()
-            .zip(b[first..].par_iter_mut())
-            .enumerate()
-            .with_min_len(256)
-            .for_each(|(r, (f, t))| {
+        each_range(bounds, (a, b), &|k, first, (a, b)| {
+            // Range k receives the buffers of the chunks before it, which cover it.
+            let earlier = &buffers[..k];
+            for (r, (f, t)) in a.iter_mut().zip(b.iter_mut()).enumerate() {
                 let i = first + r;
-                for (k, (bf, bt)) in buffers.iter().enumerate() {
-                    let offset = bounds[k + 1];
-                    if i < offset {
-                        break;
-                    }
+                for (c, (bf, bt)) in earlier.iter().enumerate() {
+                    let offset = bounds[c + 1];
                     *f += bf[i - offset];
                     *t += bt[i - offset];
                 }
-            });
+            }
+        });
     }
 }
 

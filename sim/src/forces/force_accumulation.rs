@@ -5,6 +5,7 @@ use crate::forces::chunk_buffers::{zero_buffer, ChunkBuffers, ChunkTarget};
 use crate::forces::force_field::ForceField;
 use crate::forces::resistance_network::{ResistanceNetwork, ResistancePair};
 use crate::input::flow_profile::FlowProfile;
+use crate::integrate::particle_ranges::each_range;
 use crate::integrate::particles::Particles;
 use crate::integrate::periodic_box::PeriodicBox;
 use crate::neighbours::verlet_list::VerletList;
@@ -69,11 +70,18 @@ pub struct ForceAccumulator {
 }
 
 impl ForceAccumulator {
-    /// Splits the particles into `chunks` contiguous ranges of about equal work: the pairs
-    /// each lists, plus, with `crossings` (for the implicit solve, in which a range also
-    /// evaluates the pairs that cross into it from earlier ranges), those pairs, counted
-    /// on the Verlet list at the cuts of an equal split.
-    fn split(&mut self, list: &VerletList, chunks: usize, crossings: bool) {
+    /// Splits the particles into contiguous ranges of about equal work, one per thread
+    /// (one range below [`PARALLEL_MIN_PARTICLES`]): the pairs each lists, plus, with
+    /// `crossings` (for the implicit solve, in which a range also evaluates the pairs that
+    /// cross into it from earlier ranges), those pairs, counted on the Verlet list at the
+    /// cuts of an equal split. Returns the number of ranges.
+    pub fn split(&mut self, list: &VerletList, crossings: bool) -> usize {
+        let n = list.start.len() - 1;
+        let chunks = if n < PARALLEL_MIN_PARTICLES {
+            1
+        } else {
+            rayon::current_num_threads().max(1)
+        };
         self.cut(list, chunks, 0, |_| 0);
         if crossings {
             let extra = self.bounds[1..chunks]
@@ -82,6 +90,13 @@ impl ForceAccumulator {
                 .sum();
             self.cut(list, chunks, extra, |b| list.crossing[b]);
         }
+        chunks
+    }
+
+    /// The ranges of the last [`ForceAccumulator::split`]: range k holds particles
+    /// `bounds[k]..bounds[k + 1]`.
+    pub fn bounds(&self) -> &[usize] {
+        &self.bounds
     }
 
     /// Sets the bounds so that each range holds `(pairs + extra) / chunks` of the listed
@@ -126,12 +141,7 @@ impl ForceAccumulator {
         dt: f64,
         mut network: Option<&mut ResistanceNetwork>,
     ) -> ContactStats {
-        let chunks = if p.len() < PARALLEL_MIN_PARTICLES {
-            1
-        } else {
-            rayon::current_num_threads().max(1)
-        };
-        self.split(list, chunks, network.is_some());
+        let chunks = self.split(list, network.is_some());
         if let Some(net) = network.as_deref_mut() {
             net.reset(&self.bounds);
         }
@@ -141,18 +151,19 @@ impl ForceAccumulator {
         let mut torque = std::mem::take(&mut p.torque);
         let state: &Particles = p;
         let one_body = network.is_none();
-        force
-            .par_iter_mut()
-            .zip(torque.par_iter_mut())
-            .enumerate()
-            .with_min_len(1024)
-            .for_each(|(i, (f, t))| {
-                (*f, *t) = if one_body {
-                    field.one_body(state, profile, i)
-                } else {
-                    (Vec3::zeros(), Vec3::zeros())
-                };
-            });
+        each_range(
+            &self.bounds,
+            (&mut force[..], &mut torque[..]),
+            &|_, first, (force, torque)| {
+                for (m, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
+                    (*f, *t) = if one_body {
+                        field.one_body(state, profile, first + m)
+                    } else {
+                        (Vec3::zeros(), Vec3::zeros())
+                    };
+                }
+            },
+        );
         let bounds = &self.bounds;
         let mut spring_parts: Vec<&mut [Vec3]> = Vec::with_capacity(chunks);
         let mut rest = springs;
@@ -238,6 +249,10 @@ fn pair_range(
 ) {
     let frictional = !springs.is_empty();
     let first_pair = list.start[rows.start];
+    // Filled as a local vector, put back at the end: the records' headers lie side by
+    // side, and writing one's length at every push while another task does the same
+    // would bounce their shared cache line between cores.
+    let mut recorded = record.as_deref_mut().map(std::mem::take);
     for i in rows {
         for q in list.start[i]..list.start[i + 1] {
             let j = list.neighbours[q] as usize;
@@ -246,7 +261,7 @@ fn pair_range(
             } else {
                 None
             };
-            let outcome = match record.as_deref_mut() {
+            let outcome = match recorded.as_mut() {
                 None => field.pair(p, pbox, i, j, spring, dt),
                 Some(rec) => field.pair_contact(p, pbox, i, j, spring, dt).inspect(|o| {
                     if let Some(resistance) = o.resistance {
@@ -272,5 +287,8 @@ fn pair_range(
                 );
             }
         }
+    }
+    if let (Some(record), Some(recorded)) = (record, recorded) {
+        *record = recorded;
     }
 }

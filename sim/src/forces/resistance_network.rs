@@ -69,14 +69,17 @@ impl ResistanceNetwork {
             .zip(self.chunks.par_iter())
             .enumerate()
             .for_each(|(k, (crossing, pairs))| {
-                crossing.clear();
+                // Filled as a local vector (see `pair_range` on false sharing).
+                let mut local = std::mem::take(crossing);
+                local.clear();
                 let end = bounds[k + 1] as u32;
-                crossing.extend(
+                local.extend(
                     (0u32..)
                         .zip(pairs)
                         .filter(|(_, p)| p.j >= end)
                         .map(|(m, _)| m),
                 );
+                *crossing = local;
             });
     }
 

@@ -18,6 +18,7 @@
 use crate::forces::drag;
 use crate::forces::resistance_network::{Motion, ResistanceNetwork};
 use crate::input::flow_profile::FlowProfile;
+use crate::integrate::particle_ranges::{each_range, over_ranges};
 use crate::integrate::particles::Particles;
 use crate::Vec3;
 use nalgebra::Matrix3;
@@ -56,28 +57,20 @@ impl std::ops::Add for Sums {
 }
 
 /// Runs `f(k, first, rows, entries)` on every range `k` of `bounds` (particles
-/// `first..bounds[k + 1]`, with their rows and entries), in parallel: the list of ranges
-/// is halved at each fork and the halves' sums added, so the same bounds give the same
-/// bits. `k0` is the number of the first range.
-fn for_ranges<E: Send>(
+/// `first..bounds[k + 1]`, with their rows and entries) in parallel and adds the sums in
+/// range order, so the same bounds give the same bits.
+fn sum_ranges(
     bounds: &[usize],
-    k0: usize,
     rows: &mut [Rows],
-    entries: &mut [E],
-    f: &(impl Fn(usize, usize, &mut [Rows], &mut [E]) -> Sums + Sync),
+    entries: &mut [Motion],
+    f: &(impl Fn(usize, usize, &mut [Rows], &mut [Motion]) -> Sums + Sync),
 ) -> Sums {
-    if bounds.len() <= 2 {
-        return f(k0, bounds[0], rows, entries);
-    }
-    let mid = bounds.len() / 2;
-    let split = bounds[mid] - bounds[0];
-    let (rows_a, rows_b) = rows.split_at_mut(split);
-    let (entries_a, entries_b) = entries.split_at_mut(split);
-    let (a, b) = rayon::join(
-        || for_ranges(&bounds[..=mid], k0, rows_a, entries_a, f),
-        || for_ranges(&bounds[mid..], k0 + mid, rows_b, entries_b, f),
-    );
-    a + b
+    over_ranges(
+        bounds,
+        (rows, entries),
+        &|k, first, (rows, entries)| f(k, first, rows, entries),
+        &|a, b| a + b,
+    )
 }
 
 /// Applies `f(m, c, row, entry)` to row `c` (0 translation, 1 rotation) of every particle
@@ -161,7 +154,7 @@ impl ImplicitDissipation {
         // Start: the product of the warm start (in w after `prepare`), the preconditioner
         // blocks inverted, r = b - A x, z = P r.
         let w = &self.w;
-        let mut rz = for_ranges(bounds, 0, &mut self.rows, &mut self.z, &|k, _, rows, z| {
+        let mut rz = sum_ranges(bounds, &mut self.rows, &mut self.z, &|k, _, rows, z| {
             net.product_on(k, w, z);
             each_row(rows, z, |_, _, row, z| {
                 // Symmetric positive definite (its diagonal part alone is), so invertible.
@@ -194,26 +187,20 @@ impl ImplicitDissipation {
             // iteration).
             let beta = (stats.iterations > 0).then(|| rz.0 / rz_last);
             let z = &self.z;
-            let dq = for_ranges(
-                bounds,
-                0,
-                &mut self.rows,
-                &mut self.w,
-                &|k, first, rows, w| {
-                    net.product_on(k, z, w);
-                    each_row(rows, w, |m, c, row, w| {
-                        let z = z[first + m][c];
-                        let az = *w * dt + z * row.diagonal;
-                        (row.d, row.q) = match beta {
-                            Some(beta) => (z + row.d * beta, az + row.q * beta),
-                            None => (z, az),
-                        };
-                        Sums(row.d.dot(&row.q), 0.0)
-                    })
-                },
-            );
+            let dq = sum_ranges(bounds, &mut self.rows, &mut self.w, &|k, first, rows, w| {
+                net.product_on(k, z, w);
+                each_row(rows, w, |m, c, row, w| {
+                    let z = z[first + m][c];
+                    let az = *w * dt + z * row.diagonal;
+                    (row.d, row.q) = match beta {
+                        Some(beta) => (z + row.d * beta, az + row.q * beta),
+                        None => (z, az),
+                    };
+                    Sums(row.d.dot(&row.q), 0.0)
+                })
+            });
             let alpha = rz.0 / dq.0;
-            let next = for_ranges(bounds, 0, &mut self.rows, &mut self.z, &|_, _, rows, z| {
+            let next = sum_ranges(bounds, &mut self.rows, &mut self.z, &|_, _, rows, z| {
                 each_row(rows, z, |_, _, row, z| {
                     row.x += row.d * alpha;
                     row.r -= row.q * alpha;
@@ -225,9 +212,15 @@ impl ImplicitDissipation {
             rz = next;
             stats.iterations += 1;
         }
-        for ((v, w), rows) in p.vel.iter_mut().zip(p.omega.iter_mut()).zip(&self.rows) {
-            (*v, *w) = (rows[0].x, rows[1].x);
-        }
+        each_range(
+            bounds,
+            (&mut self.rows[..], (&mut p.vel[..], &mut p.omega[..])),
+            &|_, _, (rows, (vel, omega))| {
+                for ((v, w), rows) in vel.iter_mut().zip(omega.iter_mut()).zip(rows.iter()) {
+                    (*v, *w) = (rows[0].x, rows[1].x);
+                }
+            },
+        );
         Ok(stats)
     }
 
@@ -241,9 +234,8 @@ impl ImplicitDissipation {
         drag: Option<(f64, &FlowProfile)>,
         dt: f64,
     ) -> f64 {
-        let sums = for_ranges(
+        let sums = sum_ranges(
             &network.bounds,
-            0,
             &mut self.rows,
             &mut self.w,
             &|k, first, rows, w| {

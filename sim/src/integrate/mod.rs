@@ -3,6 +3,7 @@
 
 pub mod implicit_dissipation;
 pub mod integrator;
+pub mod particle_ranges;
 pub mod particles;
 pub mod periodic_box;
 pub mod simulation;

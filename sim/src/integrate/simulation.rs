@@ -8,6 +8,7 @@ use crate::input::flow_profile::FlowProfile;
 use crate::input::scene::Scene;
 use crate::integrate::implicit_dissipation::{ImplicitDissipation, SolveSettings, SolveStats};
 use crate::integrate::integrator::Integrator;
+use crate::integrate::particle_ranges::each_range;
 use crate::integrate::particles::{sphere_inertia, Particles};
 use crate::integrate::periodic_box::PeriodicBox;
 use crate::integrate::stage_timers::{Stage, StageTimers};
@@ -15,7 +16,6 @@ use crate::integrate::timestep::TimeStep;
 use crate::neighbours::cell_list::CellList;
 use crate::neighbours::verlet_list::VerletList;
 use crate::Vec3;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Overlap ratio (overlap / smaller radius) beyond which a run is declared blown up.
@@ -152,6 +152,9 @@ impl Simulation {
         sim.build_list(state.list_reference, &identity);
         sim.pbox.set_time(state.time);
         sim.springs = state.springs;
+        // The ranges of particles the evaluation that made the saved forces used.
+        sim.accumulator
+            .split(&sim.list, sim.timestep.integrator == Integrator::Implicit);
         sim.step = state.step;
         sim.time = state.time;
         sim.list_builds = state.list_builds;
@@ -223,15 +226,17 @@ impl Simulation {
         let h = 0.5 * self.timestep.dt;
         let p = &mut self.particles;
         let (force, torque, mass, radius) = (&p.force, &p.torque, &p.mass, &p.radius);
-        p.vel
-            .par_iter_mut()
-            .zip(p.omega.par_iter_mut())
-            .enumerate()
-            .with_min_len(1024)
-            .for_each(|(i, (v, w))| {
-                *v += force[i] * (h / mass[i]);
-                *w += torque[i] * (h / sphere_inertia(mass[i], radius[i]));
-            });
+        each_range(
+            self.accumulator.bounds(),
+            (&mut p.vel[..], &mut p.omega[..]),
+            &|_, first, (vel, omega)| {
+                for (m, (v, w)) in vel.iter_mut().zip(omega.iter_mut()).enumerate() {
+                    let i = first + m;
+                    *v += force[i] * (h / mass[i]);
+                    *w += torque[i] * (h / sphere_inertia(mass[i], radius[i]));
+                }
+            },
+        );
     }
 
     /// Drift `x += v dt`, wrapped into the box as it is at the end of the step (with the
@@ -241,14 +246,16 @@ impl Simulation {
         self.pbox.set_time(self.time + dt);
         let pbox = self.pbox;
         let p = &mut self.particles;
-        p.pos
-            .par_iter_mut()
-            .zip(p.vel.par_iter_mut())
-            .with_min_len(1024)
-            .for_each(|(x, v)| {
-                *x += *v * dt;
-                pbox.wrap(x, v);
-            });
+        each_range(
+            self.accumulator.bounds(),
+            (&mut p.pos[..], &mut p.vel[..]),
+            &|_, _, (pos, vel)| {
+                for (x, v) in pos.iter_mut().zip(vel.iter_mut()) {
+                    *x += *v * dt;
+                    pbox.wrap(x, v);
+                }
+            },
+        );
     }
 
     /// Drift, neighbour-list upkeep and the loads at the new positions: the middle of

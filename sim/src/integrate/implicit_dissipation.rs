@@ -214,9 +214,9 @@ impl ImplicitDissipation {
         }
         each_range(
             bounds,
-            (&mut self.rows[..], (&mut p.vel[..], &mut p.omega[..])),
+            (&self.rows[..], (&mut p.vel[..], &mut p.omega[..])),
             &|_, _, (rows, (vel, omega))| {
-                for ((v, w), rows) in vel.iter_mut().zip(omega.iter_mut()).zip(rows.iter()) {
+                for ((v, w), rows) in vel.iter_mut().zip(omega.iter_mut()).zip(rows) {
                     (*v, *w) = (rows[0].x, rows[1].x);
                 }
             },

@@ -21,6 +21,12 @@ impl<T: Send> PerParticle for &mut [T] {
     }
 }
 
+impl<T: Sync> PerParticle for &[T] {
+    fn split_at(self, at: usize) -> (Self, Self) {
+        <[T]>::split_at(self, at)
+    }
+}
+
 impl<A: PerParticle, B: PerParticle> PerParticle for (A, B) {
     fn split_at(self, at: usize) -> (Self, Self) {
         let (a0, a1) = self.0.split_at(at);

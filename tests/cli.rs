@@ -324,6 +324,45 @@ fn bench_prints_json_records() {
             .sum();
         let loop_s = r["loop_s"].as_f64().unwrap();
         assert!(staged > 0.5 * loop_s && staged <= loop_s, "{r}");
+        // Only the implicit step has a solve to take apart.
+        let explicit = r["integrator"] == "explicit";
+        assert_eq!(r["solve_passes"].is_null(), explicit, "{r}");
+    }
+}
+
+#[test]
+fn bench_takes_the_solve_apart() {
+    // Above the size at which the particles are split into one range per thread.
+    let out = suspflow(&[
+        "bench",
+        "--n",
+        "2400",
+        "--threads",
+        "1,2",
+        "--integrator",
+        "implicit",
+        // About 10 implicit steps.
+        "--steps",
+        "1600",
+        "--warmup",
+        "20",
+        "--json",
+    ]);
+    assert_ok(&out);
+    let records: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for r in records.as_array().unwrap() {
+        let passes = &r["solve_passes"];
+        let [work, busiest, wall] =
+            ["work_s", "longest_s", "wall_s"].map(|k| passes[k].as_f64().unwrap());
+        // The passes are timed apart from the integration stage, inside it: they are most
+        // of it and never more; a range's work lies inside its pass.
+        let integration = r["stages"]["integration_s"].as_f64().unwrap();
+        assert!(wall > 0.5 * integration && wall <= integration, "{r}");
+        assert!(busiest > 0.0 && busiest <= wall, "{r}");
+        match r["threads"].as_u64().unwrap() {
+            1 => assert_eq!(work, busiest, "one range: {r}"),
+            _ => assert!(work > busiest && busiest >= 0.5 * work, "two ranges: {r}"),
+        }
     }
 }
 

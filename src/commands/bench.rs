@@ -6,6 +6,7 @@
 use serde::Serialize;
 use sim::input::scene::{Scene, SceneFile};
 use sim::integrate::integrator::Integrator;
+use sim::integrate::pass_times::PassTimes;
 use sim::integrate::simulation::Simulation;
 use sim::integrate::stage_timers::StageTimers;
 use sim::run::initial_particles;
@@ -67,6 +68,9 @@ struct Record {
     lammps_ratio: Option<f64>,
     /// Wall seconds of the timed loop spent in each stage of the step.
     stages: StageTimers,
+    /// The implicit solve's parallel passes in the timed loop: the ranges' work added
+    /// up, the busiest range's, and the passes' wall time.
+    solve_passes: Option<PassTimes>,
 }
 
 fn parse_integrator(text: &str) -> Result<Integrator, String> {
@@ -164,6 +168,7 @@ fn measure(
         sim.advance(in_own_steps(args.warmup))?;
         let before = sim.solver_totals;
         let timers_before = sim.timers;
+        let passes_before = sim.solve_pass_times();
         let t = Instant::now();
         sim.advance(steps)?;
         let loop_s = t.elapsed().as_secs_f64();
@@ -188,6 +193,7 @@ fn measure(
                 .lammps_pps
                 .map(|pps| n / (pps * PEER_DT * gdot_max) / s_per_strain),
             stages: sim.timers.since(&timers_before),
+            solve_passes: (solves > 0).then(|| sim.solve_pass_times().since(&passes_before)),
         })
     })?
 }
@@ -218,9 +224,15 @@ fn print_record(r: &Record) {
     let ratio = r.lammps_ratio.map_or(String::new(), |x| {
         format!(" lammps_time_per_strain/ours={x:.1}")
     });
+    let passes = r.solve_passes.map_or(String::new(), |p| {
+        format!(
+            " solve_passes(work {:.2}, busiest range {:.2}, wall {:.2})",
+            p.work_s, p.longest_s, p.wall_s
+        )
+    });
     let st = &r.stages;
     println!(
-        "n={:<6} {} threads={} lubrication={} particle_steps_per_s={:.3e} s_per_strain={:.3} loop_s={:.2} (neighbours {:.2}, forces {:.2}, integration {:.2}) steps={} dt={:.2e} contacts/particle={:.2}{iterations}{ratio}",
+        "n={:<6} {} threads={} lubrication={} particle_steps_per_s={:.3e} s_per_strain={:.3} loop_s={:.2} (neighbours {:.2}, forces {:.2}, integration {:.2}) steps={} dt={:.2e} contacts/particle={:.2}{iterations}{passes}{ratio}",
         r.n, r.integrator, r.threads, r.lubrication, r.particle_steps_per_s, r.s_per_strain, r.loop_s, st.neighbours_s, st.forces_s, st.integration_s, r.steps, r.dt, r.contacts_per_particle
     );
 }

@@ -20,8 +20,10 @@ use crate::forces::resistance_network::{Motion, ResistanceNetwork};
 use crate::input::flow_profile::FlowProfile;
 use crate::integrate::particle_ranges::{each_range, over_ranges};
 use crate::integrate::particles::Particles;
+use crate::integrate::pass_times::{PassTimes, RangeBusy};
 use crate::Vec3;
 use nalgebra::Matrix3;
+use std::time::Instant;
 
 /// The conjugate-gradient state of one row of the system (one particle's translation or
 /// rotation).
@@ -58,19 +60,26 @@ impl std::ops::Add for Sums {
 
 /// Runs `f(k, first, rows, entries)` on every range `k` of `bounds` (particles
 /// `first..bounds[k + 1]`, with their rows and entries) in parallel and adds the sums in
-/// range order, so the same bounds give the same bits.
+/// range order, so the same bounds give the same bits. The pass's times go to `times`.
 fn sum_ranges(
     bounds: &[usize],
+    times: &mut PassTimes,
     rows: &mut [Rows],
     entries: &mut [Motion],
     f: &(impl Fn(usize, usize, &mut [Rows], &mut [Motion]) -> Sums + Sync),
 ) -> Sums {
-    over_ranges(
+    let start = Instant::now();
+    let (sums, busy) = over_ranges(
         bounds,
         (rows, entries),
-        &|k, first, (rows, entries)| f(k, first, rows, entries),
-        &|a, b| a + b,
-    )
+        &|k, first, (rows, entries)| {
+            let t = Instant::now();
+            (f(k, first, rows, entries), RangeBusy::since(t))
+        },
+        &|a, b| (a.0 + b.0, a.1.merge(b.1)),
+    );
+    times.add(busy, start);
+    sums
 }
 
 /// Applies `f(m, c, row, entry)` to row `c` (0 translation, 1 rotation) of every particle
@@ -128,6 +137,8 @@ pub struct ImplicitDissipation {
     rows: Vec<Rows>,
     z: Vec<Motion>,
     w: Vec<Motion>,
+    /// Time of the parallel passes of every solve so far.
+    pub times: PassTimes,
 }
 
 impl ImplicitDissipation {
@@ -154,18 +165,25 @@ impl ImplicitDissipation {
         // Start: the product of the warm start (in w after `prepare`), the preconditioner
         // blocks inverted, r = b - A x, z = P r.
         let w = &self.w;
-        let mut rz = sum_ranges(bounds, &mut self.rows, &mut self.z, &|k, _, rows, z| {
-            net.product_on(k, w, z);
-            each_row(rows, z, |_, _, row, z| {
-                // Symmetric positive definite (its diagonal part alone is), so invertible.
-                row.preconditioner = (Matrix3::identity() * row.diagonal + row.preconditioner * dt)
-                    .try_inverse()
-                    .unwrap_or_else(Matrix3::zeros);
-                row.r -= *z * dt + row.x * row.diagonal;
-                *z = row.preconditioner * row.r;
-                residual_terms(row, z)
-            })
-        });
+        let mut rz = sum_ranges(
+            bounds,
+            &mut self.times,
+            &mut self.rows,
+            &mut self.z,
+            &|k, _, rows, z| {
+                net.product_on(k, w, z);
+                each_row(rows, z, |_, _, row, z| {
+                    // Symmetric positive definite (its diagonal part alone is), so invertible.
+                    row.preconditioner = (Matrix3::identity() * row.diagonal
+                        + row.preconditioner * dt)
+                        .try_inverse()
+                        .unwrap_or_else(Matrix3::zeros);
+                    row.r -= *z * dt + row.x * row.diagonal;
+                    *z = row.preconditioner * row.r;
+                    residual_terms(row, z)
+                })
+            },
+        );
         let mut rz_last = 0.0;
         loop {
             stats.residual = if b_norm > 0.0 {
@@ -187,27 +205,39 @@ impl ImplicitDissipation {
             // iteration).
             let beta = (stats.iterations > 0).then(|| rz.0 / rz_last);
             let z = &self.z;
-            let dq = sum_ranges(bounds, &mut self.rows, &mut self.w, &|k, first, rows, w| {
-                net.product_on(k, z, w);
-                each_row(rows, w, |m, c, row, w| {
-                    let z = z[first + m][c];
-                    let az = *w * dt + z * row.diagonal;
-                    (row.d, row.q) = match beta {
-                        Some(beta) => (z + row.d * beta, az + row.q * beta),
-                        None => (z, az),
-                    };
-                    Sums(row.d.dot(&row.q), 0.0)
-                })
-            });
+            let dq = sum_ranges(
+                bounds,
+                &mut self.times,
+                &mut self.rows,
+                &mut self.w,
+                &|k, first, rows, w| {
+                    net.product_on(k, z, w);
+                    each_row(rows, w, |m, c, row, w| {
+                        let z = z[first + m][c];
+                        let az = *w * dt + z * row.diagonal;
+                        (row.d, row.q) = match beta {
+                            Some(beta) => (z + row.d * beta, az + row.q * beta),
+                            None => (z, az),
+                        };
+                        Sums(row.d.dot(&row.q), 0.0)
+                    })
+                },
+            );
             let alpha = rz.0 / dq.0;
-            let next = sum_ranges(bounds, &mut self.rows, &mut self.z, &|_, _, rows, z| {
-                each_row(rows, z, |_, _, row, z| {
-                    row.x += row.d * alpha;
-                    row.r -= row.q * alpha;
-                    *z = row.preconditioner * row.r;
-                    residual_terms(row, z)
-                })
-            });
+            let next = sum_ranges(
+                bounds,
+                &mut self.times,
+                &mut self.rows,
+                &mut self.z,
+                &|_, _, rows, z| {
+                    each_row(rows, z, |_, _, row, z| {
+                        row.x += row.d * alpha;
+                        row.r -= row.q * alpha;
+                        *z = row.preconditioner * row.r;
+                        residual_terms(row, z)
+                    })
+                },
+            );
             rz_last = rz.0;
             rz = next;
             stats.iterations += 1;
@@ -236,6 +266,7 @@ impl ImplicitDissipation {
     ) -> f64 {
         let sums = sum_ranges(
             &network.bounds,
+            &mut self.times,
             &mut self.rows,
             &mut self.w,
             &|k, first, rows, w| {

@@ -5,6 +5,7 @@ pub mod implicit_dissipation;
 pub mod integrator;
 pub mod particle_ranges;
 pub mod particles;
+pub mod pass_times;
 pub mod periodic_box;
 pub mod simulation;
 pub mod stage_timers;

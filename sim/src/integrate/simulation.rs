@@ -10,6 +10,7 @@ use crate::integrate::implicit_dissipation::{ImplicitDissipation, SolveSettings,
 use crate::integrate::integrator::Integrator;
 use crate::integrate::particle_ranges::each_range;
 use crate::integrate::particles::{sphere_inertia, Particles};
+use crate::integrate::pass_times::PassTimes;
 use crate::integrate::periodic_box::PeriodicBox;
 use crate::integrate::stage_timers::{Stage, StageTimers};
 use crate::integrate::timestep::TimeStep;
@@ -330,6 +331,12 @@ impl Simulation {
         self.time += self.timestep.dt;
         self.timers.stop(Stage::Integration, t);
         self.check()
+    }
+
+    /// Time of the implicit solve's parallel passes since the start (zero with the
+    /// explicit step).
+    pub fn solve_pass_times(&self) -> PassTimes {
+        self.dissipation.times
     }
 
     /// Advances `n` steps.

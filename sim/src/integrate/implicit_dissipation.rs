@@ -74,7 +74,7 @@ fn sum_ranges(
         (rows, entries),
         &|k, first, (rows, entries)| {
             let t = Instant::now();
-            (f(k, first, rows, entries), RangeBusy::since(t))
+            (f(k, first, rows, entries), RangeBusy::until_now(t))
         },
         &|a, b| (a.0 + b.0, a.1.merge(b.1)),
     );

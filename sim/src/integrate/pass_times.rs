@@ -30,7 +30,7 @@ pub struct RangeBusy {
 
 impl RangeBusy {
     /// One range busy from `start` until now.
-    pub fn since(start: Instant) -> Self {
+    pub fn until_now(start: Instant) -> Self {
         let s = start.elapsed().as_secs_f64();
         RangeBusy {
             total: s,

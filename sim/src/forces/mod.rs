@@ -9,3 +9,4 @@ pub mod force_field;
 pub mod lubrication;
 pub mod pair_load;
 pub mod resistance_network;
+pub mod thermal_noise;

@@ -101,6 +101,9 @@ pub struct RunSummary {
     pub phi: f64,
     pub phi_actual: f64,
     pub stokes: f64,
+    /// Brownian scales (kT, tau_B, tau_I, Peclet number) of a scene with `kT > 0`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub thermal: Option<crate::input::thermal_scales::ThermalScales>,
     pub dt: f64,
     pub dt_limit: String,
     pub timestep: TimeStep,
@@ -254,7 +257,7 @@ pub fn run(
     };
     let ctx = binning_context(scene);
     let r = &scene.file.run;
-    let gdot = scene.gdot_max();
+    let gdot = scene.clock_rate();
     let steps_per_sample = ((r.sample_strain / (gdot * sim.timestep.dt)).round() as u64).max(1);
     let target = st.averaging.capacity();
     let mut last_checkpoint = Instant::now();
@@ -350,6 +353,7 @@ pub fn run(
         phi: scene.file.particles.phi,
         phi_actual: scene.phi_actual,
         stokes: scene.stokes,
+        thermal: scene.thermal,
         dt: sim.timestep.dt,
         dt_limit: sim.timestep.limit.to_string(),
         timestep: sim.timestep,

@@ -107,6 +107,16 @@ fn sheared_run_resumes_identically() {
     assert_reproducible(&test_scene("tiny_shear.toml"), &STOP);
 }
 
+/// Brownian runs, at equilibrium (the clock in Brownian times) and sheared: the noise is
+/// keyed by seed, step and identities, so a resumed run draws the same numbers.
+#[test]
+fn brownian_runs_resume_identically() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    assert_reproducible(&test_scene("tiny_brownian.toml"), &STOP);
+    static STOP_SHEAR: AtomicBool = AtomicBool::new(false);
+    assert_reproducible(&test_scene("tiny_brownian_shear.toml"), &STOP_SHEAR);
+}
+
 #[test]
 fn a_checkpoint_of_another_scene_is_refused() {
     static STOP: AtomicBool = AtomicBool::new(false);

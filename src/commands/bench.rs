@@ -13,6 +13,8 @@ use sim::run::initial_particles;
 use std::f64::consts::PI;
 use std::time::Instant;
 
+mod brownian;
+
 #[derive(clap::Args)]
 pub struct Args {
     /// Particle numbers (comma separated).
@@ -44,6 +46,19 @@ pub struct Args {
     /// Print a JSON array of records instead of lines.
     #[arg(long)]
     json: bool,
+    /// The Brownian bench instead: thesis Table 4.1's state (monodisperse a = 1, phi
+    /// 0.45, rho = eta = 0.1, kT = 0.017, k_n = 1e4, no flow; the peer's
+    /// `brownian.sh`), timed per Brownian time tau_B, with the kinetic temperatures of the
+    /// timed window.
+    #[arg(long)]
+    brownian: bool,
+    /// With --brownian: the timed window and the warm-up before it, in Brownian times.
+    #[arg(long, value_delimiter = ',', num_args = 2, default_values_t = [1.0, 2.0], value_parser = parse_positive)]
+    tau_b_windows: Vec<f64>,
+    /// With --brownian: the peer's measured wall seconds per tau_B (its `brownian.sh`
+    /// prints `wall_per_tau_B`); each record then gives the peer's time over ours.
+    #[arg(long, value_parser = parse_positive)]
+    lammps_s_per_tau_b: Option<f64>,
 }
 
 /// The explicit scheme's step here: the peer's stable LAMMPS step.
@@ -199,6 +214,9 @@ fn measure(
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if args.brownian {
+        return brownian::run(&args);
+    }
     let mut records = Vec::new();
     for &n in &args.n {
         for &integrator in &args.integrator {

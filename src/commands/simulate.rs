@@ -195,12 +195,22 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
         scene.rho,
         scene.stokes
     );
+    if let Some(th) = &scene.thermal {
+        println!(
+            "Brownian: kT = {:.4e}, tau_B = eta a^3/kT = {:.4e}, tau_I = rho a^2/eta = {:.4e}, tau_I/tau_B = {:.3e}, Peclet number = {}",
+            th.kt,
+            th.tau_b,
+            th.tau_i,
+            th.inertia_diffusion,
+            th.peclet.map_or("none (no flow: run lengths count tau_B)".into(), |pe| format!("{pe:.4e}"))
+        );
+    }
     println!(
         "{} integrator: dt = {:.3e} set by {} (critical steps: contact {:.3e}, drag {:.3e}, lubrication {:.3e}; accuracy cap xi_min/gdot_max {:.3e})",
         t.integrator, t.dt, t.limit, t.contact_critical, t.drag_critical, t.lubrication_critical, t.accuracy_limit
     );
     println!(
-        "{:.0} steps per unit strain; at most {:.3e} particle-steps to the strain budget {} plus {:.3e} for {} snapshots",
+        "{:.0} steps per unit of the run's clock (strain, or tau_B without flow); at most {:.3e} particle-steps to the budget {} plus {:.3e} for {} snapshots",
         steps_per_strain,
         steps_per_strain * r.max_strain * scene.n_particles() as f64,
         r.max_strain,

@@ -7,6 +7,7 @@ pub mod drag;
 pub mod force_accumulation;
 pub mod force_field;
 pub mod lubrication;
+pub mod network_loads;
 pub mod pair_load;
 pub mod resistance_network;
 pub mod thermal_noise;

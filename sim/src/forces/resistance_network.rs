@@ -87,7 +87,7 @@ impl ResistanceNetwork {
     /// positions of i and j in the range (`None` outside it): first the chunk's own pairs
     /// in order, then the crossing pairs of earlier chunks that end in the range.
     #[inline]
-    fn visit(
+    pub fn visit(
         &self,
         k: usize,
         mut visit: impl FnMut(&ResistancePair, Option<usize>, Option<usize>),

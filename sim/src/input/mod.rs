@@ -9,3 +9,4 @@ pub mod profile_syntax;
 pub mod replica_seeds;
 pub mod scene;
 pub mod scene_name;
+pub mod thermal_scales;

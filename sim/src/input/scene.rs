@@ -4,6 +4,7 @@ use crate::error::SimError;
 use crate::input::flow_profile::FlowProfile;
 use crate::input::memory_estimate;
 use crate::input::scene_name;
+use crate::input::thermal_scales::ThermalScales;
 use crate::integrate::integrator::Integrator;
 use crate::sampling::conventions::Conventions;
 use serde::{Deserialize, Serialize};
@@ -81,6 +82,14 @@ pub struct FluidSection {
     /// (docs/physics.md section 10), instead of a profile.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shear_rate: Option<f64>,
+    /// Thermal energy `kT` of the Brownian forces (docs/physics.md section 11; units
+    /// eta a^3 / time); 0 = non-Brownian, and then nothing of them is evaluated.
+    #[serde(default, rename = "kT", skip_serializing_if = "is_zero")]
+    pub kt: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// Which force terms are on, and their parameters.
@@ -247,6 +256,8 @@ pub struct Scene {
     pub memory_bytes: f64,
     /// Non-fatal problems (Stokes number too large, ...).
     pub warnings: Vec<String>,
+    /// Time scales of the Brownian forces, when `fluid.kT > 0`.
+    pub thermal: Option<ThermalScales>,
 }
 
 /// Largest accepted `|sum of number fractions - 1|` (room for decimal round-off such as
@@ -273,10 +284,12 @@ fn streaming_flow(fluid: &FluidSection, l_y: f64) -> Result<FlowProfile, SimErro
             "give either fluid.profile (inhomogeneous flow) or fluid.shear_rate (homogeneous \
              shear), not both",
         )),
+        (true, None) if fluid.kt > 0.0 => FlowProfile::new("0", l_y),
         (true, None) => Err(SimError::field(
             "fluid",
             "needs a streaming flow: fluid.profile = \"0.1*sin(2*pi*y/L)\" (inhomogeneous) \
-             or fluid.shear_rate = 0.01 (homogeneous shear)",
+             or fluid.shear_rate = 0.01 (homogeneous shear), or a thermal energy fluid.kT > 0 \
+             (an equilibrium Brownian run)",
         )),
         (true, Some(gdot)) => {
             positive("fluid.shear_rate", gdot)?;
@@ -284,13 +297,14 @@ fn streaming_flow(fluid: &FluidSection, l_y: f64) -> Result<FlowProfile, SimErro
         }
         (false, None) => {
             let profile = FlowProfile::new(&fluid.profile, l_y)?;
-            if profile.max_abs_shear_rate() == 0.0 {
+            if profile.max_abs_shear_rate() == 0.0 && fluid.kt == 0.0 {
                 return Err(SimError::field(
                     "fluid.profile",
                     format!(
                         "`{}` has no shear (max |u'| = 0): the run's clock is the strain, which \
                          would never advance; give a profile whose shear rate is not zero \
-                         everywhere",
+                         everywhere, or a thermal energy fluid.kT > 0 (then the clock is the \
+                         Brownian time)",
                         fluid.profile
                     ),
                 ));
@@ -398,6 +412,12 @@ impl Scene {
             ));
         }
         positive("fluid.eta", file.fluid.eta)?;
+        if !(file.fluid.kt.is_finite() && file.fluid.kt >= 0.0) {
+            return Err(SimError::field(
+                "fluid.kT",
+                format!("must be >= 0 (0 = non-Brownian), got {}", file.fluid.kt),
+            ));
+        }
         let f = &file.forces;
         if !(f.contact || f.drag || f.lubrication) {
             return Err(SimError::field(
@@ -560,6 +580,12 @@ impl Scene {
                 positive("particles.rho", rho)?;
                 rho
             }
+            (None, Some(_)) if gdot_max == 0.0 => {
+                return Err(SimError::field(
+                    "particles.stokes",
+                    "a scene without shear has no Stokes number: give particles.rho",
+                ))
+            }
             (None, Some(st)) => {
                 positive("particles.stokes", st)?;
                 st * file.fluid.eta / (a_min * a_min * gdot_max)
@@ -581,7 +607,13 @@ impl Scene {
             }
             warnings.push(msg);
         }
+        let thermal = (file.fluid.kt > 0.0)
+            .then(|| ThermalScales::new(file.fluid.kt, file.fluid.eta, rho, a_min, gdot_max));
+        if let Some(w) = thermal.as_ref().and_then(ThermalScales::warning) {
+            warnings.push(w);
+        }
         Ok(Scene {
+            thermal,
             box_len: [b.l_x, b.l_y, b.l_z],
             counts,
             phi_actual,
@@ -632,9 +664,19 @@ impl Scene {
         self.file.fluid.shear_rate
     }
 
-    /// Largest shear rate of the streaming profile, the strain-rate unit of the run.
+    /// Largest shear rate of the streaming profile.
     pub fn gdot_max(&self) -> f64 {
         self.profile.max_abs_shear_rate()
+    }
+
+    /// The rate of the run's clock, in which its lengths (`run.sample_strain`,
+    /// `window_strain`, `max_strain`) are counted: the largest shear rate (the clock is the
+    /// strain), or without flow `1 / tau_B` (the clock counts Brownian times).
+    pub fn clock_rate(&self) -> f64 {
+        match (self.gdot_max(), &self.thermal) {
+            (0.0, Some(t)) => 1.0 / t.tau_b,
+            (g, _) => g,
+        }
     }
 }
 

@@ -144,11 +144,12 @@ pub struct ImplicitDissipation {
 impl ImplicitDissipation {
     /// Replaces `p.vel` and `p.omega` by the backward-Euler velocities, taking the
     /// conservative loads from `p.force` and `p.torque`. `drag` gives the fluid viscosity
-    /// and the streaming flow when Stokes drag is on.
+    /// and the streaming flow when Stokes drag is on. The network's crossings must be
+    /// indexed.
     pub fn solve(
         &mut self,
         p: &mut Particles,
-        network: &mut ResistanceNetwork,
+        network: &ResistanceNetwork,
         drag: Option<(f64, &FlowProfile)>,
         dt: f64,
         settings: SolveSettings,
@@ -157,7 +158,6 @@ impl ImplicitDissipation {
         self.rows.resize(n, Rows::default());
         self.z.resize(n, Motion::default());
         self.w.resize(n, Motion::default());
-        network.index_crossings();
         let net: &ResistanceNetwork = network;
         let bounds = &net.bounds;
         let b_norm = self.prepare(p, net, drag, dt).sqrt();

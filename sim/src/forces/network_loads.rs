@@ -1,0 +1,130 @@
+//! Loads on every particle that come from the resistance network of one step, worked out
+//! range by range on the network's ranges of particles (each range's rows written by one
+//! thread, as in the implicit solve): the Brownian loads (one-body and pairwise, thesis
+//! eqs 3.20-3.24) and, for the explicit step of a Brownian scene, the dissipative loads of
+//! drag and lubrication at the current motion (3.5, 3.6, 3.13, 3.14).
+use crate::forces::force_field::ForceField;
+use crate::forces::resistance_network::{Motion, ResistanceNetwork, ResistancePair};
+use crate::forces::thermal_noise::ThermalNoise;
+use crate::input::flow_profile::FlowProfile;
+use crate::integrate::particle_ranges::each_range;
+use crate::integrate::particles::Particles;
+use crate::Vec3;
+
+/// One step's draw of Brownian loads: the keyed noise, the particles (identities and
+/// radii) and the step.
+#[derive(Clone, Copy)]
+pub struct Draw<'a> {
+    pub noise: &'a ThermalNoise,
+    pub particles: &'a Particles,
+    pub step: u64,
+}
+
+/// Sets `out` (force, torque per particle) to the Brownian loads of the draw: the one-body
+/// loads of every particle when `drag_eta` (the fluid viscosity) is given, plus each
+/// lubricated pair's loads (equal and opposite forces) on both of its particles. The
+/// network's crossings must be indexed.
+pub fn brownian_loads(
+    draw: Draw,
+    network: &ResistanceNetwork,
+    drag_eta: Option<f64>,
+    out: &mut [Motion],
+) {
+    let p = draw.particles;
+    each_range(&network.bounds, out, &|k, first, out: &mut [Motion]| {
+        for (m, o) in out.iter_mut().enumerate() {
+            let i = first + m;
+            *o = match drag_eta {
+                Some(eta) => {
+                    let (f, t) = draw
+                        .noise
+                        .one_body_load(eta, p.radius[i], p.id[i], draw.step);
+                    [f, t]
+                }
+                None => [Vec3::zeros(); 2],
+            };
+        }
+        add_pair_loads(draw, network, k, (1.0, &|_| true), out);
+    });
+}
+
+/// Adds `sign` times the Brownian loads of the draw of the network's pairs for which
+/// `selected` holds to `out` (force, torque per particle): the corrections of the
+/// midpoint step for the pairs that enter or leave the cut-off within it. The network's
+/// crossings must be indexed.
+pub fn add_selected_pair_loads(
+    draw: Draw,
+    network: &ResistanceNetwork,
+    sign: f64,
+    selected: &(impl Fn(&ResistancePair) -> bool + Sync),
+    out: &mut [Motion],
+) {
+    each_range(&network.bounds, out, &|k, _, out: &mut [Motion]| {
+        add_pair_loads(draw, network, k, (sign, selected), out);
+    });
+}
+
+/// The pair part of [`brownian_loads`] on range `k`, for the selected pairs, times the
+/// sign.
+fn add_pair_loads(
+    draw: Draw,
+    network: &ResistanceNetwork,
+    k: usize,
+    (sign, selected): (f64, &impl Fn(&ResistancePair) -> bool),
+    out: &mut [Motion],
+) {
+    let p = draw.particles;
+    network.visit(k, |pair, i, j| {
+        if !selected(pair) {
+            return;
+        }
+        let ids = (p.id[pair.i as usize], p.id[pair.j as usize]);
+        let load = draw
+            .noise
+            .pair_load(&pair.resistance, &pair.n, ids, draw.step);
+        if let Some(i) = i {
+            out[i][0] += load.force_i * sign;
+            out[i][1] += load.torque_i * sign;
+        }
+        if let Some(j) = j {
+            out[j][0] -= load.force_i * sign;
+            out[j][1] += load.torque_j * sign;
+        }
+    });
+}
+
+/// Adds to `p.force` and `p.torque` the dissipative loads at the current velocities and
+/// spins: minus the network's `R V` (lubrication) and the field's one-body drag towards
+/// the streaming `profile`. `motion` and `scratch` are work space (one entry per particle).
+pub fn add_dissipative_loads(
+    network: &ResistanceNetwork,
+    field: &ForceField,
+    profile: &FlowProfile,
+    p: &mut Particles,
+    (motion, scratch): (&mut Vec<Motion>, &mut Vec<Motion>),
+) {
+    let n = p.len();
+    motion.resize(n, Motion::default());
+    scratch.resize(n, Motion::default());
+    for (m, (v, w)) in motion.iter_mut().zip(p.vel.iter().zip(&p.omega)) {
+        *m = [*v, *w];
+    }
+    let motion: &[Motion] = motion;
+    let state: &Particles = p;
+    each_range(&network.bounds, &mut scratch[..], &|k, first, out| {
+        network.product_on(k, motion, out);
+        for (m, o) in out.iter_mut().enumerate() {
+            let (f, t) = field.one_body(state, profile, first + m);
+            *o = [f - o[0], t - o[1]];
+        }
+    });
+    for ((f, t), o) in p
+        .force
+        .iter_mut()
+        .zip(p.torque.iter_mut())
+        .zip(scratch.iter())
+    {
+        *f += o[0];
+        *t += o[1];
+    }
+}

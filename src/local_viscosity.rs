@@ -5,7 +5,7 @@ use anyhow::Context;
 use sim::output::dataset_columns as col;
 use std::collections::BTreeMap;
 use std::path::Path;
-use surrogate::dataset::Dataset;
+use surrogate::Dataset;
 
 /// A bin counts as sheared when its `|gdot|` is at least this fraction of the largest
 /// `|gdot|` of its scene: near a velocity extremum `J -> 0` and `mu / J` is noise over noise.

@@ -12,10 +12,10 @@ use std::path::Path;
 
 use ndarray::Array2;
 
+use crate::data::excerpt::excerpt;
+use crate::data::files;
+use crate::data::fingerprint::fnv1a_64;
 use crate::error::{Result, SurrogateError};
-use crate::excerpt::excerpt;
-use crate::files;
-use crate::fingerprint::fnv1a_64;
 
 /// The column whose value names the simulation a row comes from: the grouping key for
 /// cross-validation, so that rows of one simulation never sit on both sides of a split.

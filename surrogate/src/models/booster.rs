@@ -12,10 +12,10 @@ use std::path::Path;
 use ndarray::{Array2, ArrayView2};
 use serde::{Deserialize, Serialize};
 
+use crate::data::files;
 use crate::error::{Result, SurrogateError};
-use crate::files;
-use crate::forest::Forest;
-use crate::xgboost_json::ShapeJson;
+use crate::models::forest::Forest;
+use crate::models::xgboost_json::ShapeJson;
 
 /// How a booster with several outputs grows its trees (XGBoost's `multi_strategy`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -66,7 +66,7 @@ pub struct HyperParameters {
     /// Number of threads; 0 means all cores.
     pub nthread: u32,
     /// Whether the trees learn the residual of the local-rheology backbone
-    /// ([`crate::local_rheology`]) instead of the outputs themselves. Not an XGBoost
+    /// ([`crate::physics::local_rheology`]) instead of the outputs themselves. Not an XGBoost
     /// setting: it changes what the trees are trained on.
     #[serde(default)]
     pub backbone: bool,

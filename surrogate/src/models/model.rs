@@ -6,17 +6,17 @@ use std::path::{Path, PathBuf};
 use ndarray::{Array2, ArrayView2};
 use serde::{Deserialize, Serialize};
 
-use crate::backbone::Backbone;
-use crate::booster::{xgboost_version, Booster, HyperParameters};
-use crate::dataset::Dataset;
+use crate::data::dataset::Dataset;
+use crate::data::files;
+use crate::data::mapping::Mapping;
+use crate::data::physical_range::clip_to_physical_range;
+use crate::data::samples::Samples;
+use crate::data::scaling::MinMaxScaling;
+use crate::data::training_domain::TrainingDomain;
 use crate::error::{Result, SurrogateError};
-use crate::files;
-use crate::mapping::Mapping;
-use crate::metrics::relative_l2_error;
-use crate::physical_range::clip_to_physical_range;
-use crate::samples::Samples;
-use crate::scaling::MinMaxScaling;
-use crate::training_domain::TrainingDomain;
+use crate::models::booster::{xgboost_version, Booster, HyperParameters};
+use crate::models::metrics::relative_l2_error;
+use crate::physics::backbone::Backbone;
 
 /// Everything about a trained model except its trees.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -174,7 +174,7 @@ impl TrainedModel {
 impl ModelMeta {
     /// Outputs in original units from the trees' predictions `scaled` for rows `features`:
     /// unscaled outputs, or the backbone plus unscaled residuals, clipped into their
-    /// [`physical_range`](crate::physical_range::physical_range).
+    /// [`physical_range`](crate::data::physical_range::physical_range).
     pub fn outputs(
         &self,
         features: ArrayView2<f64>,

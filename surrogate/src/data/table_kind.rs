@@ -5,7 +5,7 @@
 //! same way: the mappings read the same columns, and cross-validation groups rows by
 //! `scene_id`, so the replicas of a scene always fall on the same side of a split.
 
-use crate::dataset::{Dataset, GROUP_COLUMN};
+use crate::data::dataset::{Dataset, GROUP_COLUMN};
 use crate::error::{Result, SurrogateError};
 use sim::output::dataset_columns as col;
 

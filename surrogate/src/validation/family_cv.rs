@@ -1,8 +1,8 @@
 //! Leave-one-family-out comparison of three ways to predict a mapping's outputs: XGBoost
-//! alone, the physics backbone alone ([`crate::local_rheology`]: `mu = A J^b`, `phi_loc`
+//! alone, the physics backbone alone ([`crate::physics::local_rheology`]: `mu = A J^b`, `phi_loc`
 //! from eq 6.7) and XGBoost on the backbone's residual.
 //!
-//! Each fold holds out one profile family ([`crate::family_folds`]); the three variants are
+//! Each fold holds out one profile family ([`crate::validation::family_folds`]); the three variants are
 //! fitted on the fold's training rows with the same hyper-parameters (the trees' settings;
 //! only whether they learn the outputs or the residual differs), and so is the training
 //! domain ([`TrainingDomain`]), which splits the held-out rows into those inside and those
@@ -14,14 +14,14 @@ use ndarray::{Array2, Axis};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::backbone::Backbone;
-use crate::booster::HyperParameters;
+use crate::data::mapping::Mapping;
+use crate::data::samples::Samples;
 use crate::error::{Result, SurrogateError};
-use crate::family_folds::{leave_one_family_out, FamilyFold};
-use crate::mapping::Mapping;
-use crate::metrics::relative_l2_error;
-use crate::model::TrainedModel;
-use crate::samples::Samples;
+use crate::models::booster::HyperParameters;
+use crate::models::metrics::relative_l2_error;
+use crate::models::model::TrainedModel;
+use crate::physics::backbone::Backbone;
+use crate::validation::family_folds::{leave_one_family_out, FamilyFold};
 
 /// One way of predicting the outputs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

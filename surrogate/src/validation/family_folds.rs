@@ -1,7 +1,7 @@
 //! Folds that hold out whole profile families, and the choice between them and folds that
 //! hold out single simulations.
 //!
-//! A profile family is every row of one forcing expression ([`crate::dataset::PROFILE_COLUMN`]:
+//! A profile family is every row of one forcing expression ([`crate::data::dataset::PROFILE_COLUMN`]:
 //! shape and amplitude) at every phi, L_y and seed. Scenes of one family share their local
 //! states closely, so leaving one simulation out measures interpolation between near
 //! neighbours; leaving a whole family out measures what a user sees on a new forcing. The
@@ -11,10 +11,10 @@ use std::collections::BTreeSet;
 
 use serde::{Deserialize, Serialize};
 
-use crate::cross_validation::{leave_one_group_out, Fold};
-use crate::dataset::{GROUP_COLUMN, PROFILE_COLUMN};
+use crate::data::dataset::{GROUP_COLUMN, PROFILE_COLUMN};
+use crate::data::samples::Samples;
 use crate::error::{Result, SurrogateError};
-use crate::samples::Samples;
+use crate::validation::cross_validation::{leave_one_group_out, Fold};
 
 /// Fewest profile families for which tuning leaves one family out: with two, each fold would
 /// train on a single forcing.

@@ -9,11 +9,11 @@ use std::collections::BTreeMap;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::booster::HyperParameters;
+use crate::data::mapping::Mapping;
+use crate::data::samples::Samples;
 use crate::error::{Result, SurrogateError};
-use crate::mapping::Mapping;
-use crate::model::TrainedModel;
-use crate::samples::Samples;
+use crate::models::booster::HyperParameters;
+use crate::models::model::TrainedModel;
 
 /// One split: row indices to train on and row indices to test on.
 #[derive(Debug, Clone, PartialEq, Eq)]

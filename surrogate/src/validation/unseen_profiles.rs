@@ -4,18 +4,18 @@
 
 use ndarray::Array2;
 
-use crate::dataset::{Dataset, PROFILE_COLUMN};
+use crate::data::dataset::{Dataset, PROFILE_COLUMN};
+use crate::data::mapping::Mapping;
+use crate::data::samples::Samples;
 use crate::error::Result;
-use crate::mapping::Mapping;
-use crate::metrics::relative_l2_error;
-use crate::model::TrainedModel;
-use crate::samples::Samples;
+use crate::models::metrics::relative_l2_error;
+use crate::models::model::TrainedModel;
 
 /// The name under which the errors over all validation rows together are reported.
 pub const ALL_PROFILES: &str = "all";
 
 /// The names under which the errors over the rows inside and outside the model's training
-/// domain (see [`crate::training_domain`]) are reported.
+/// domain (see [`crate::data::training_domain`]) are reported.
 pub const IN_DOMAIN: &str = "in domain";
 pub const OUT_OF_DOMAIN: &str = "out of domain";
 

@@ -3,9 +3,9 @@
 
 use ndarray::{Array2, Axis};
 
-use crate::dataset::Dataset;
+use crate::data::dataset::Dataset;
+use crate::data::mapping::Mapping;
 use crate::error::{Result, SurrogateError};
-use crate::mapping::Mapping;
 
 /// Feature and output matrices of one mapping, with the group (simulation) and the profile
 /// family of each row and the row's number in the source dataset (from 1), for error messages. Rows with an empty
@@ -22,9 +22,9 @@ pub struct Samples {
     pub features: Array2<f64>,
     /// Rows x outputs, all finite, in original units.
     pub outputs: Array2<f64>,
-    /// Grouping key of each row (see [`crate::dataset::GROUP_COLUMN`]).
+    /// Grouping key of each row (see [`crate::data::dataset::GROUP_COLUMN`]).
     pub groups: Vec<String>,
-    /// Profile family of each row: the text of [`crate::dataset::PROFILE_COLUMN`], the forcing
+    /// Profile family of each row: the text of [`crate::data::dataset::PROFILE_COLUMN`], the forcing
     /// expression, which names both its shape and its amplitude; `None` when the source has
     /// no such column.
     pub families: Option<Vec<String>>,

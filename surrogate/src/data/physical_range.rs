@@ -19,7 +19,7 @@
 use ndarray::{Array2, Axis};
 use sim::output::dataset_columns as col;
 
-use crate::scaling::Range;
+use crate::data::scaling::Range;
 
 /// The largest local volume fraction: the densest packing of equal spheres, rounded down.
 pub const PHI_LOC_MAX: f64 = 0.74;

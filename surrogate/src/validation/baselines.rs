@@ -1,5 +1,5 @@
 //! Baselines that a surrogate must beat, scored with the same metric: linear least squares
-//! (linfa) and the physics backbone alone ([`crate::local_rheology`]).
+//! (linfa) and the physics backbone alone ([`crate::physics::local_rheology`]).
 
 use std::time::{Duration, Instant};
 
@@ -8,11 +8,11 @@ use linfa_linear::LinearRegression;
 use ndarray::{Array2, Axis};
 use serde::Serialize;
 
-use crate::backbone::Backbone;
+use crate::data::samples::Samples;
+use crate::data::scaling::MinMaxScaling;
 use crate::error::{Result, SurrogateError};
-use crate::metrics::relative_l2_error;
-use crate::samples::Samples;
-use crate::scaling::MinMaxScaling;
+use crate::models::metrics::relative_l2_error;
+use crate::physics::backbone::Backbone;
 
 /// Which features a least-squares fit sees.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

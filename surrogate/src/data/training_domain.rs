@@ -33,9 +33,9 @@ use ndarray::{ArrayView1, ArrayView2, Axis};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::data::samples::Samples;
+use crate::data::scaling::Range;
 use crate::error::{Result, SurrogateError};
-use crate::samples::Samples;
-use crate::scaling::Range;
 
 /// Ratio `max / min` of a positive feature beyond which it is scaled on its logarithm.
 pub const LOG_SPAN: f64 = 100.0;

@@ -5,11 +5,11 @@ use ndarray::{Array2, ArrayView2, Axis};
 use serde::{Deserialize, Serialize};
 use sim::output::dataset_columns as col;
 
+use crate::data::physical_range::clip_to_physical_range;
+use crate::data::samples::Samples;
+use crate::data::scaling::MinMaxScaling;
 use crate::error::{Result, SurrogateError};
-use crate::local_rheology::LocalRheology;
-use crate::physical_range::clip_to_physical_range;
-use crate::samples::Samples;
-use crate::scaling::MinMaxScaling;
+use crate::physics::local_rheology::LocalRheology;
 
 /// The feature the backbone reads: the local viscous number.
 const J_COLUMN: &str = col::J;
@@ -59,7 +59,7 @@ impl Backbone {
     }
 
     /// The backbone alone as a model: [`Backbone::law_outputs`] clipped into each output's
-    /// physical range ([`crate::physical_range`]).
+    /// physical range ([`crate::data::physical_range`]).
     pub fn law_prediction(
         &self,
         feature_names: &[String],

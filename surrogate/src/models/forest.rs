@@ -14,7 +14,7 @@
 use ndarray::{Array2, ArrayView2};
 
 use crate::error::{Result, SurrogateError};
-use crate::xgboost_json::{ModelJson, TreeJson};
+use crate::models::xgboost_json::{ModelJson, TreeJson};
 
 /// The trees of one model.
 #[derive(Debug, Clone)]

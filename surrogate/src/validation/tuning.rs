@@ -1,9 +1,9 @@
 //! Hyper-parameter selection for one mapping: a grid search cross-validated on the training
 //! data only, so that the validation profiles never influence the choice. The folds leave
-//! one profile family out ([`crate::family_folds`]) when the data hold at least
+//! one profile family out ([`crate::validation::family_folds`]) when the data hold at least
 //! [`MIN_TUNING_FAMILIES`] of them, so that the choice favours settings that carry over to a
 //! new forcing; otherwise (the seeds' training grid has a single profile) they leave one
-//! simulation out (folds by [`crate::dataset::GROUP_COLUMN`]). The record keeps every
+//! simulation out (folds by [`crate::data::dataset::GROUP_COLUMN`]). The record keeps every
 //! candidate's error next to that of XGBoost's defaults, the setting the thesis trained
 //! with ("without hyperparameter optimization", section 6.2), and is saved as
 //! `<mapping>.tuning.json` beside the model.
@@ -13,18 +13,20 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::backbone::Backbone;
-use crate::booster::HyperParameters;
-use crate::cross_validation::{cross_validate, grid_search, CvScore, Fold, HyperParameterGrid};
+use crate::data::files;
+use crate::data::mapping::Mapping;
+use crate::data::samples::Samples;
 use crate::error::Result;
-use crate::family_folds::{tuning_folds, LeftOut, MIN_TUNING_FAMILIES};
-use crate::files;
-use crate::mapping::Mapping;
-use crate::samples::Samples;
+use crate::models::booster::HyperParameters;
+use crate::physics::backbone::Backbone;
+use crate::validation::cross_validation::{
+    cross_validate, grid_search, CvScore, Fold, HyperParameterGrid,
+};
+use crate::validation::family_folds::{tuning_folds, LeftOut, MIN_TUNING_FAMILIES};
 
 /// The grid `suspflow train` searches: 2 x 2 x 4 x 3 x 2 = 96 settings around XGBoost's
 /// defaults (which it contains): trees on the outputs or on the residual of the physics
-/// backbone ([`crate::local_rheology`]), with shallow trees, slower learning and heavier
+/// backbone ([`crate::physics::local_rheology`]), with shallow trees, slower learning and heavier
 /// leaves (`min_child_weight`, a sum of unit hessians: rows per leaf) for smoother fits of
 /// about 300 noisy rows from 8 simulations. At most 300 rounds, so that training all three
 /// mappings with any of them stays well under a second. At the wide grid's size (about 5000

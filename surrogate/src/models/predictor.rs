@@ -1,18 +1,18 @@
 //! Prediction from a saved model without the XGBoost library: the sidecar plus the trees
 //! read by [`Forest`], for callers that load a model to predict one profile and must do
 //! so in milliseconds (`suspflow predict`). It gives the same numbers as the
-//! [`TrainedModel`](crate::model::TrainedModel) the files came from, to f32 rounding.
+//! [`TrainedModel`](crate::models::model::TrainedModel) the files came from, to f32 rounding.
 
 use std::path::Path;
 
 use ndarray::{Array2, ArrayView2};
 
-use crate::dataset::Dataset;
+use crate::data::dataset::Dataset;
+use crate::data::files;
+use crate::data::training_domain::{DomainCheck, TrainingDomain};
 use crate::error::Result;
-use crate::files;
-use crate::forest::Forest;
-use crate::model::ModelMeta;
-use crate::training_domain::{DomainCheck, TrainingDomain};
+use crate::models::forest::Forest;
+use crate::models::model::ModelMeta;
 
 /// A saved model, ready to predict.
 #[derive(Debug, Clone)]
@@ -24,7 +24,7 @@ pub struct Predictor {
 
 impl Predictor {
     /// Reads the model of mapping `name` saved in `dir`, with the same checks as
-    /// [`TrainedModel::load`](crate::model::TrainedModel::load).
+    /// [`TrainedModel::load`](crate::models::model::TrainedModel::load).
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         let read_trees =
             |path: &Path| Forest::from_json(&files::read(path)?, &path.display().to_string());
@@ -73,7 +73,7 @@ impl Predictor {
     }
 
     /// [`Predictor::predict`], with the number of cells clipped into their physical range
-    /// ([`crate::physical_range`]).
+    /// ([`crate::data::physical_range`]).
     pub fn predict_counting_clips(&self, dataset: &Dataset) -> Result<(Array2<f64>, usize)> {
         let features = self.meta.feature_matrix(dataset)?;
         let scaled = self.forest.predict(features.view())?;

@@ -15,7 +15,7 @@
 //! are clipped into each output's [`physical_range`].
 //!
 //! The modules sit in four stage folders, each importing only from earlier ones (and from
-//! [`error`]): [`data`], [`physics`] (the backbone), [`models`], [`validation`].
+//! [`error`]): [`data`], [`rheology`] (the backbone, the jamming law, ensemble statistics), [`models`], [`validation`].
 //!
 //! The XGBoost library is the pinned `xgboost-cpu` wheel's `libxgboost.so`, provided by the
 //! workspace's `vendor/xgboost_lib-sys` crate; see its build script.
@@ -23,7 +23,7 @@
 pub mod data;
 pub mod error;
 pub mod models;
-pub mod physics;
+pub mod rheology;
 pub mod validation;
 
 pub use data::dataset::{Dataset, GROUP_COLUMN, PROFILE_COLUMN};
@@ -40,8 +40,14 @@ pub use models::forest::Forest;
 pub use models::metrics::relative_l2_error;
 pub use models::model::{ModelMeta, TrainedModel, TrainingData};
 pub use models::predictor::Predictor;
-pub use physics::local_rheology::LocalRheology;
+pub use rheology::agreement::{agreement, Agreement};
+pub use rheology::ensemble::{build_ensemble, Ensemble, EnsembleSummary, ObservableSummary};
+pub use rheology::flow_curve_fit::{bin_viscosity, FlowCurvePoint, SeededJammingFit};
+pub use rheology::jamming_law::{JammingLaw, SEEDS_LAW};
+pub use rheology::local_rheology::LocalRheology;
+pub use rheology::statistics::{mean_and_standard_error, median};
 pub use validation::baselines::{evaluate_baseline, Baseline, BaselineScore};
+pub use validation::comparison::{compare_contenders, ComparisonRow, Contender};
 pub use validation::cross_validation::{
     cross_validate, grid_search, grouped_k_fold, leave_one_group_out, CvScore, Fold, GridSearch,
     HyperParameterGrid,

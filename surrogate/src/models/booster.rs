@@ -66,7 +66,7 @@ pub struct HyperParameters {
     /// Number of threads; 0 means all cores.
     pub nthread: u32,
     /// Whether the trees learn the residual of the local-rheology backbone
-    /// ([`crate::physics::local_rheology`]) instead of the outputs themselves. Not an XGBoost
+    /// ([`crate::rheology::local_rheology`]) instead of the outputs themselves. Not an XGBoost
     /// setting: it changes what the trees are trained on.
     #[serde(default)]
     pub backbone: bool,

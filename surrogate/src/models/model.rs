@@ -16,7 +16,7 @@ use crate::data::training_domain::TrainingDomain;
 use crate::error::{Result, SurrogateError};
 use crate::models::booster::{xgboost_version, Booster, HyperParameters};
 use crate::models::metrics::relative_l2_error;
-use crate::physics::backbone::Backbone;
+use crate::rheology::backbone::Backbone;
 
 /// Everything about a trained model except its trees.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -1,5 +1,5 @@
 //! Baselines that a surrogate must beat, scored with the same metric: linear least squares
-//! (linfa) and the physics backbone alone ([`crate::physics::local_rheology`]).
+//! (linfa) and the physics backbone alone ([`crate::rheology::local_rheology`]).
 
 use std::time::{Duration, Instant};
 
@@ -12,7 +12,7 @@ use crate::data::samples::Samples;
 use crate::data::scaling::MinMaxScaling;
 use crate::error::{Result, SurrogateError};
 use crate::models::metrics::relative_l2_error;
-use crate::physics::backbone::Backbone;
+use crate::rheology::backbone::Backbone;
 
 /// Which features a least-squares fit sees.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

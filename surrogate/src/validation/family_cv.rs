@@ -1,5 +1,5 @@
 //! Leave-one-family-out comparison of three ways to predict a mapping's outputs: XGBoost
-//! alone, the physics backbone alone ([`crate::physics::local_rheology`]: `mu = A J^b`, `phi_loc`
+//! alone, the physics backbone alone ([`crate::rheology::local_rheology`]: `mu = A J^b`, `phi_loc`
 //! from eq 6.7) and XGBoost on the backbone's residual.
 //!
 //! Each fold holds out one profile family ([`crate::validation::family_folds`]); the three variants are
@@ -20,7 +20,7 @@ use crate::error::{Result, SurrogateError};
 use crate::models::booster::HyperParameters;
 use crate::models::metrics::relative_l2_error;
 use crate::models::model::TrainedModel;
-use crate::physics::backbone::Backbone;
+use crate::rheology::backbone::Backbone;
 use crate::validation::family_folds::{leave_one_family_out, FamilyFold};
 
 /// One way of predicting the outputs.

@@ -2,6 +2,7 @@
 //! hyper-parameters, linear baselines, and the error on unseen flow profiles.
 
 pub mod baselines;
+pub mod comparison;
 pub mod cross_validation;
 pub mod family_cv;
 pub mod family_folds;

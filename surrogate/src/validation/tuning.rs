@@ -18,7 +18,7 @@ use crate::data::mapping::Mapping;
 use crate::data::samples::Samples;
 use crate::error::Result;
 use crate::models::booster::HyperParameters;
-use crate::physics::backbone::Backbone;
+use crate::rheology::backbone::Backbone;
 use crate::validation::cross_validation::{
     cross_validate, grid_search, CvScore, Fold, HyperParameterGrid,
 };
@@ -26,7 +26,7 @@ use crate::validation::family_folds::{tuning_folds, LeftOut, MIN_TUNING_FAMILIES
 
 /// The grid `suspflow train` searches: 2 x 2 x 4 x 3 x 2 = 96 settings around XGBoost's
 /// defaults (which it contains): trees on the outputs or on the residual of the physics
-/// backbone ([`crate::physics::local_rheology`]), with shallow trees, slower learning and heavier
+/// backbone ([`crate::rheology::local_rheology`]), with shallow trees, slower learning and heavier
 /// leaves (`min_child_weight`, a sum of unit hessians: rows per leaf) for smoother fits of
 /// about 300 noisy rows from 8 simulations. At most 300 rounds, so that training all three
 /// mappings with any of them stays well under a second. At the wide grid's size (about 5000

@@ -9,7 +9,7 @@ use crate::data::physical_range::clip_to_physical_range;
 use crate::data::samples::Samples;
 use crate::data::scaling::MinMaxScaling;
 use crate::error::{Result, SurrogateError};
-use crate::physics::local_rheology::LocalRheology;
+use crate::rheology::local_rheology::LocalRheology;
 
 /// The feature the backbone reads: the local viscous number.
 const J_COLUMN: &str = col::J;

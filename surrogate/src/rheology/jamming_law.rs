@@ -7,9 +7,8 @@
 //! least squares through the origin, `lambda = -sum(x y) / sum(x^2)` with
 //! `x = ln(1 - phi/phi_J)`, `y = ln eta_r`; `phi_J` itself minimises the remaining error
 //! over `(max phi, PHI_J_MAX)` by Brent's method (`argmin`).
-use anyhow::{bail, Context};
-use argmin::core::{CostFunction, Executor};
-use argmin::solver::brent::BrentOpt;
+use crate::error::{Result, SurrogateError};
+use crate::rheology::brent;
 
 /// The seeds' values at high Peclet number (thesis section 4.2.6).
 pub const SEEDS_LAW: JammingLaw = JammingLaw {
@@ -45,20 +44,15 @@ impl LogError<'_> {
             });
         -xy / xx
     }
-}
 
-impl CostFunction for LogError<'_> {
-    type Param = f64;
-    type Output = f64;
-
-    fn cost(&self, phi_j: &f64) -> Result<f64, argmin::core::Error> {
-        let lambda = self.lambda(*phi_j);
-        Ok(self
-            .phi
+    /// The squared error of `ln eta_r` at `phi_j` with its best `lambda`.
+    fn cost(&self, phi_j: f64) -> f64 {
+        let lambda = self.lambda(phi_j);
+        self.phi
             .iter()
             .zip(self.ln_eta)
             .map(|(p, y)| (y + lambda * (1.0 - p / phi_j).ln()).powi(2))
-            .sum())
+            .sum()
     }
 }
 
@@ -74,23 +68,22 @@ impl JammingLaw {
 
     /// Least-squares fit (see the module notes) to at least three points with distinct
     /// `phi` in (0, PHI_J_MAX) and `eta_r > 1`.
-    pub fn fit(phi: &[f64], eta_r: &[f64]) -> anyhow::Result<JammingLaw> {
+    pub fn fit(phi: &[f64], eta_r: &[f64]) -> Result<JammingLaw> {
         if let Some(k) =
             (0..phi.len()).find(|&k| !(phi[k] > 0.0 && phi[k] < PHI_J_MAX && eta_r[k] > 1.0))
         {
-            bail!(
+            return Err(SurrogateError::InvalidArgument(format!(
                 "cannot fit the jamming law to phi = {}, eta_r = {}: needs 0 < phi < {PHI_J_MAX} and eta_r > 1",
                 phi[k],
                 eta_r[k]
-            );
+            )));
         }
         let phi_top = phi.iter().cloned().fold(0.0, f64::max);
         let distinct = phi.iter().filter(|&&p| p < phi_top).count();
         if phi.len() < 3 || distinct < 2 {
-            bail!(
-                "the jamming law needs points at three or more volume fractions, got {:?}",
-                phi
-            );
+            return Err(SurrogateError::InvalidArgument(format!(
+                "the jamming law needs points at three or more volume fractions, got {phi:?}"
+            )));
         }
         let ln_eta: Vec<f64> = eta_r.iter().map(|e| e.ln()).collect();
         let cost = LogError {
@@ -98,18 +91,12 @@ impl JammingLaw {
             ln_eta: &ln_eta,
         };
         let lower = phi_top + 1e-6 * (PHI_J_MAX - phi_top);
-        let result = Executor::new(cost, BrentOpt::new(lower, PHI_J_MAX))
-            .configure(|state| state.max_iters(200))
-            .run()
-            .context("fitting phi_J of the jamming law")?;
-        let phi_j = result
-            .state()
-            .best_param
-            .context("fitting phi_J of the jamming law found no value")?;
-        let cost = LogError {
-            phi,
-            ln_eta: &ln_eta,
-        };
+        let phi_j = brent::minimise(
+            |phi_j| cost.cost(phi_j),
+            lower,
+            PHI_J_MAX,
+            "fitting phi_J of the jamming law",
+        )?;
         Ok(JammingLaw {
             phi_j,
             lambda: cost.lambda(phi_j),

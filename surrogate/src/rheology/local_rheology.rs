@@ -17,12 +17,11 @@
 //! `phi_J` and slope `-1 / sqrt(alpha)`. Rows with `J <= 0` or `mu <= 0` carry no
 //! information on a power law and are left out of the fit.
 
-use argmin::core::{CostFunction, Executor};
-use argmin::solver::brent::BrentOpt;
 use serde::{Deserialize, Serialize};
 use sim::output::dataset_columns as col;
 
 use crate::error::{Result, SurrogateError};
+use crate::rheology::brent;
 
 /// Smallest and largest flow-curve exponent searched.
 const B_MIN: f64 = 0.01;
@@ -42,7 +41,6 @@ pub struct LocalRheology {
 }
 
 /// Squared error of `mu = A J^b` over `b`, with the best `A` for each `b`.
-#[derive(Clone, Copy)]
 struct FlowCurveCost<'a> {
     j: &'a [f64],
     mu: &'a [f64],
@@ -61,20 +59,15 @@ impl FlowCurveCost<'_> {
             });
         num / den
     }
-}
 
-impl CostFunction for FlowCurveCost<'_> {
-    type Param = f64;
-    type Output = f64;
-
-    fn cost(&self, b: &f64) -> std::result::Result<f64, argmin::core::Error> {
-        let a = self.prefactor(*b);
-        Ok(self
-            .j
+    /// The squared error of `mu` with exponent `b` and its best prefactor.
+    fn cost(&self, b: f64) -> f64 {
+        let a = self.prefactor(b);
+        self.j
             .iter()
             .zip(self.mu)
-            .map(|(&j, &m)| (m - a * j.powf(*b)).powi(2))
-            .sum())
+            .map(|(&j, &m)| (m - a * j.powf(b)).powi(2))
+            .sum()
     }
 }
 
@@ -93,16 +86,12 @@ impl LocalRheology {
         let pick = |v: &[f64]| -> Vec<f64> { rows.iter().map(|&i| v[i]).collect() };
         let (j, phi_loc, mu) = (pick(j), pick(phi_loc), pick(mu));
         let cost = FlowCurveCost { j: &j, mu: &mu };
-        let solver = BrentOpt::new(B_MIN, B_MAX);
-        let result = Executor::new(cost, solver)
-            .configure(|state| state.max_iters(200))
-            .run()
-            .map_err(|e| {
-                SurrogateError::InvalidArgument(format!("fitting the flow curve mu(J): {e}"))
-            })?;
-        let mu_exponent = result.state().best_param.ok_or_else(|| {
-            SurrogateError::InvalidArgument("fitting the flow curve mu(J) found no exponent".into())
-        })?;
+        let mu_exponent = brent::minimise(
+            |b| cost.cost(b),
+            B_MIN,
+            B_MAX,
+            "fitting the flow curve mu(J)",
+        )?;
         let mu_prefactor = cost.prefactor(mu_exponent);
         let x: Vec<f64> = j.iter().zip(&mu).map(|(j, m)| (j / m).sqrt()).collect();
         let (intercept, slope) = straight_line(&x, &phi_loc);

@@ -2,7 +2,7 @@
 //! bins of an inhomogeneous-flow dataset (docs/physics.md sections 6 and 10), gathered in
 //! bands of `phi_loc`, for comparison with homogeneous shear at the same volume fraction.
 use anyhow::Context;
-use sim::output::dataset_columns as col;
+use schema::columns as col;
 use std::collections::BTreeMap;
 use std::path::Path;
 use surrogate::Dataset;

@@ -1,6 +1,6 @@
 //! The local-rheology closure fitted on a dataset.
 
-use sim::output::dataset_columns as col;
+use schema::columns as col;
 use surrogate::{Dataset, LocalRheology};
 
 use crate::error::Result;

@@ -1,5 +1,7 @@
 //! What a solve returns.
 
+use schema::Observable;
+
 /// A solved profile, one entry per bin, and how the solve went.
 #[derive(Debug, Clone, Default)]
 pub struct ProfileSolution {
@@ -20,4 +22,22 @@ pub struct ProfileSolution {
     pub iterations: usize,
     /// Largest scaled residual at the end.
     pub residual: f64,
+}
+
+impl ProfileSolution {
+    /// The solved values of observable `o` along y; `None` for those a solve does not give
+    /// per bin (P is uniform; Theta and count are not solved for).
+    pub fn column(&self, o: Observable) -> Option<&[f64]> {
+        match o {
+            Observable::U => Some(&self.u),
+            Observable::Gdot => Some(&self.gdot),
+            Observable::SigmaXy => Some(&self.sigma_xy),
+            Observable::PhiLoc => Some(&self.phi_loc),
+            Observable::J => Some(&self.j),
+            Observable::Mu => Some(&self.mu),
+            Observable::DeltaV => Some(&self.delta_v),
+            Observable::FX => Some(&self.f_x),
+            Observable::P | Observable::Theta | Observable::Count => None,
+        }
+    }
 }

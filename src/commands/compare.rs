@@ -3,8 +3,8 @@
 //! z-score `(a - b)^2 / (se_a^2 + se_b^2)` (about 1 when only noise differs, with the
 //! standard errors taken at face value) and the relative L2 difference `||a - b|| / ||b||`.
 use anyhow::bail;
-use sim::output::dataset_columns;
-use sim::output::dataset_columns::{DELTA_V, F_X, J, MU, P, PHI_LOC, SIGMA_XY, THETA, U};
+use schema::columns as dataset_columns;
+use schema::columns::{DELTA_V, F_X, J, MU, P, PHI_LOC, SIGMA_XY, THETA, U};
 use std::path::{Path, PathBuf};
 use surrogate::{agreement, excerpt, Dataset, GROUP_COLUMN};
 

@@ -8,9 +8,10 @@ use crate::output_guard;
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
 use anyhow::{bail, Context};
 use ndarray::Array2;
+use schema::columns as col;
+use schema::Observable;
 use serde::Serialize;
 use sim::input::scene::Scene;
-use sim::output::dataset_columns as col;
 use solver::{fit_local_rheology, LearnedClosure, ProfileProblem, ProfileSolution, SolverError};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -251,7 +252,8 @@ fn compare(
         .iter()
         .map(|(kind, _)| format!("  {:<8}", format!("{kind:?}").to_lowercase()))
         .collect();
-    for name in [col::U, col::PHI_LOC, col::MU] {
+    for observable in [Observable::U, Observable::PhiLoc, Observable::Mu] {
+        let name = observable.name();
         let c = data.column(name)?;
         let simulated = Array2::from_shape_fn((rows.len(), 1), |(k, _)| c[rows[k]]);
         let se_name = col::standard_error(name);
@@ -265,7 +267,9 @@ fn compare(
             errors,
         }];
         for ((kind, s), line) in solutions.iter().zip(&mut lines) {
-            let solved = solved_column(s, name);
+            let solved = s
+                .column(observable)
+                .with_context(|| format!("a solve gives no {name} per bin"))?;
             let column = Array2::from_shape_fn((rows.len(), 1), |(k, _)| solved[k]);
             let error = relative_l2_error(simulated.view(), column.view())?[0];
             *line += &format!(" {:>7.2}%", 100.0 * error);
@@ -291,13 +295,4 @@ fn compare(
     profile_panels(&figure, &title, &panels)?;
     println!("figure: {}", figure.display());
     Ok(())
-}
-
-/// The solved values of observable `name` (u, phi_loc or mu).
-fn solved_column<'a>(s: &'a ProfileSolution, name: &str) -> &'a [f64] {
-    match name {
-        col::U => &s.u,
-        col::PHI_LOC => &s.phi_loc,
-        _ => &s.mu,
-    }
 }

@@ -376,7 +376,7 @@ fn write_figures(data: &Dataset, checked: &[Checked], dir: &Path) -> anyhow::Res
         let mut panels = Vec::new();
         for &output in &outputs {
             let values = data.column(output)?;
-            let se_name = sim::output::dataset_columns::standard_error(output);
+            let se_name = schema::columns::standard_error(output);
             let errors = if columns.contains(&se_name) {
                 Some(data.column(&se_name)?)
             } else {

@@ -19,13 +19,13 @@ use crate::error::{Result, SurrogateError};
 
 /// The column whose value names the simulation a row comes from: the grouping key for
 /// cross-validation, so that rows of one simulation never sit on both sides of a split.
-pub const GROUP_COLUMN: &str = sim::output::dataset_columns::SCENE_ID;
+pub const GROUP_COLUMN: &str = schema::columns::SCENE_ID;
 
 /// The column whose text names the flow profile of a row: the forcing expression `u_inf(y)`,
 /// e.g. `0.2*sin(2*pi*y/L) + 0.1*cos(4*pi*y/L)`, which names both the shape and the
 /// amplitude. Rows with the same text form a profile family (the scenes of one forcing at
 /// every phi, L_y and seed), the unit that leave-one-family-out cross-validation holds out.
-pub const PROFILE_COLUMN: &str = sim::output::dataset_columns::PROFILE;
+pub const PROFILE_COLUMN: &str = schema::columns::PROFILE;
 
 /// The UTF-8 byte-order mark some editors put at the start of a CSV file.
 const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";

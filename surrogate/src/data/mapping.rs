@@ -1,7 +1,7 @@
 //! The input -> output mappings learnt by the surrogate (docs/physics.md section 8, thesis section 6.2).
 
 use crate::error::{Result, SurrogateError};
-use sim::output::dataset_columns as col;
+use schema::columns as col;
 
 /// Which dataset columns a model reads (features) and which it predicts (outputs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

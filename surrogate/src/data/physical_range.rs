@@ -17,7 +17,7 @@
 //! training domain in practice, where the prediction is already flagged.
 
 use ndarray::{Array2, Axis};
-use sim::output::dataset_columns as col;
+use schema::columns as col;
 
 use crate::data::scaling::Range;
 

@@ -1,13 +1,13 @@
 //! Which of the two dataset tables a [`Dataset`] is, told by its columns: the per-run table
 //! (one row per bin per run, a run being one replica of a scene, with `seed`) or the ensemble
 //! table (one row per bin per scene, means over the replicas, with `replicas` and `se_from`;
-//! docs/physics.md section 8 and `sim::output::dataset_columns`). Both train and validate the
+//! docs/physics.md section 8 and `schema::columns`). Both train and validate the
 //! same way: the mappings read the same columns, and cross-validation groups rows by
 //! `scene_id`, so the replicas of a scene always fall on the same side of a split.
 
 use crate::data::dataset::{Dataset, GROUP_COLUMN};
 use crate::error::{Result, SurrogateError};
-use sim::output::dataset_columns as col;
+use schema::columns as col;
 
 /// The kind of a dataset table, with its counts.
 #[derive(Debug, Clone, PartialEq)]

@@ -2,8 +2,8 @@
 //! scaling of the residual that the trees learn in its place (`y = backbone(J) + residual`).
 
 use ndarray::{Array2, ArrayView2, Axis};
+use schema::columns as col;
 use serde::{Deserialize, Serialize};
-use sim::output::dataset_columns as col;
 
 use crate::data::physical_range::clip_to_physical_range;
 use crate::data::samples::Samples;

@@ -1,6 +1,6 @@
 //! The ensemble table of a dataset with replicas: per scene and bin, each observable's mean
 //! over the scene's replicas (runs that differ only in `seed`), its standard error and the
-//! replica count (columns in `sim::output::dataset_columns`), with a summary.
+//! replica count (columns in `schema::columns`), with a summary.
 //!
 //! With n >= 2 replicas of values x_i, the standard error is the between-replica one,
 //! s(x) / sqrt(n) with s the sample standard deviation (n - 1 in the denominator). A scene
@@ -15,8 +15,8 @@
 //! s(x) / rms(se_i), about 1 when the batch-means errors describe the scatter between
 //! realisations). It also gives the median relative standard error |se / mean|, over all
 //! bins and over the bins away from the velocity extrema.
+use schema::columns as col;
 use serde::Serialize;
-use sim::output::dataset_columns as col;
 
 use crate::data::dataset::Dataset;
 use crate::error::{Result, SurrogateError};

@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 
-use sim::output::dataset_columns as col;
+use schema::columns as col;
 
 use crate::data::dataset::Dataset;
 use crate::error::Result;

@@ -17,8 +17,8 @@
 //! `phi_J` and slope `-1 / sqrt(alpha)`. Rows with `J <= 0` or `mu <= 0` carry no
 //! information on a power law and are left out of the fit.
 
+use schema::columns as col;
 use serde::{Deserialize, Serialize};
-use sim::output::dataset_columns as col;
 
 use crate::error::{Result, SurrogateError};
 use crate::rheology::brent;

@@ -124,7 +124,7 @@ fn target_noise(
     let names = dataset.column_names();
     let mut shifted = samples.outputs.clone();
     for (j, output) in samples.output_names.iter().enumerate() {
-        let se_name = sim::output::dataset_columns::standard_error(output);
+        let se_name = schema::columns::standard_error(output);
         if !names.contains(&se_name) {
             return Ok(None);
         }

@@ -7,7 +7,7 @@
 //! (`<grid>_<zero-padded index>`) and a scene's replicas by seed, which fixes the order of
 //! the runs in every output.
 use anyhow::{bail, Context};
-use sim::output::dataset_columns;
+use schema::columns as dataset_columns;
 use std::collections::BTreeMap;
 use std::path::Path;
 use surrogate::excerpt;

@@ -7,7 +7,6 @@ pub mod commands;
 mod dataset_file;
 mod ensemble_table;
 mod file_lock;
-mod jamming_law;
 mod local_viscosity;
 mod output_guard;
 mod plots;

@@ -2,10 +2,10 @@
 //! bins of an inhomogeneous-flow dataset (docs/physics.md sections 6 and 10), gathered in
 //! bands of `phi_loc`, for comparison with homogeneous shear at the same volume fraction.
 use anyhow::Context;
-use sim::output::dataset_columns as col;
+use schema::columns as col;
 use std::collections::BTreeMap;
 use std::path::Path;
-use surrogate::dataset::Dataset;
+use surrogate::Dataset;
 
 /// A bin counts as sheared when its `|gdot|` is at least this fraction of the largest
 /// `|gdot|` of its scene: near a velocity extremum `J -> 0` and `mu / J` is noise over noise.

@@ -258,7 +258,7 @@ fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
 
 #[test]
 fn each_convention_changes_only_the_observables_it_defines() {
-    use sim::output::dataset_columns::{DELTA_V, J, MU, THETA};
+    use schema::Observable;
     use sim::sampling::convention_effects::{convention_effects, COMPARED};
     let scene = tiny();
     let out = on_threads(1, || run(&scene, &RunOptions::default(), &mut |_, _| {})).unwrap();
@@ -266,7 +266,7 @@ fn each_convention_changes_only_the_observables_it_defines() {
     let effects = convention_effects(&ctx, &out.sums).unwrap();
     assert_eq!(effects.len(), 5);
     for effect in &effects {
-        let changes = |name: &str| {
+        let changes = |name: Observable| {
             let r = &effect.relative[COMPARED.iter().position(|&c| c == name).unwrap()];
             assert!(
                 !r.is_empty(),
@@ -275,11 +275,11 @@ fn each_convention_changes_only_the_observables_it_defines() {
             );
             r.iter().any(|&x| x > 1e-9)
         };
-        let expected: &[&str] = match effect.option.split(' ').next().unwrap() {
-            "stress" => &[MU],
-            "theta" => &[THETA],
-            "delta_v" => &[DELTA_V],
-            "gdot" => &[J],
+        let expected: &[Observable] = match effect.option.split(' ').next().unwrap() {
+            "stress" => &[Observable::Mu],
+            "theta" => &[Observable::Theta],
+            "delta_v" => &[Observable::DeltaV],
+            "gdot" => &[Observable::J],
             other => panic!("unknown option {other}"),
         };
         for name in COMPARED {

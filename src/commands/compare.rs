@@ -3,10 +3,10 @@
 //! z-score `(a - b)^2 / (se_a^2 + se_b^2)` (about 1 when only noise differs, with the
 //! standard errors taken at face value) and the relative L2 difference `||a - b|| / ||b||`.
 use anyhow::bail;
-use sim::output::dataset_columns;
-use sim::output::dataset_columns::{DELTA_V, F_X, J, MU, P, PHI_LOC, SIGMA_XY, THETA, U};
+use schema::columns as dataset_columns;
+use schema::columns::{DELTA_V, F_X, J, MU, P, PHI_LOC, SIGMA_XY, THETA, U};
 use std::path::{Path, PathBuf};
-use surrogate::{excerpt, Dataset, GROUP_COLUMN};
+use surrogate::{agreement, excerpt, Dataset, GROUP_COLUMN};
 
 /// Observables compared by default.
 const DEFAULT_COLUMNS: [&str; 9] = [U, SIGMA_XY, P, PHI_LOC, J, MU, THETA, DELTA_V, F_X];
@@ -89,35 +89,6 @@ fn column(data: &Dataset, name: &str) -> anyhow::Result<Vec<f64>> {
             }
         })
         .collect()
-}
-
-/// Agreement of one observable: mean squared z-score and relative L2 difference over the
-/// bins where both are defined, and how many bins that is.
-pub struct Agreement {
-    pub z2: f64,
-    pub rel_l2: f64,
-    pub bins: usize,
-}
-
-/// Compares `a` against `b` (with standard errors `sa`, `sb`), skipping undefined bins.
-pub fn agreement(a: &[f64], sa: &[f64], b: &[f64], sb: &[f64]) -> Agreement {
-    let (mut z2, mut diff2, mut norm2, mut bins) = (0.0, 0.0, 0.0, 0);
-    for k in 0..a.len() {
-        let (d, var) = (a[k] - b[k], sa[k] * sa[k] + sb[k] * sb[k]);
-        if d.is_finite() && var.is_finite() {
-            if var > 0.0 {
-                z2 += d * d / var;
-            }
-            diff2 += d * d;
-            norm2 += b[k] * b[k];
-            bins += 1;
-        }
-    }
-    Agreement {
-        z2: z2 / bins.max(1) as f64,
-        rel_l2: (diff2 / norm2).sqrt(),
-        bins,
-    }
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {

@@ -6,7 +6,7 @@
 //! and the figure, and counted in the table.
 use crate::plots::scatter_panels::{scatter_panels, PointSet, ScatterPanel};
 use anyhow::Context;
-use sim::output::dataset_columns as col;
+use schema::columns as col;
 use std::path::{Path, PathBuf};
 use surrogate::Dataset;
 

@@ -10,7 +10,6 @@
 //! as the thesis' LAMMPS runs report), and the bins' `sigma_xy` under the scene's
 //! `[observables] stress` convention (the same pair stresslets by default; with the
 //! one-body drag stresslet under `pairs+drag`, as the shipped datasets were made).
-use crate::jamming_law::{JammingLaw, SEEDS_LAW};
 use crate::local_viscosity::{self, LocalBand};
 use crate::plots::data_and_laws::{self, Points};
 use crate::plots::loglog::Line;
@@ -18,12 +17,14 @@ use crate::scene_work::{SceneStatus, SceneWork};
 use anyhow::{bail, Context};
 use sim::input::grid::Grid;
 use sim::output::atomic_write::write_atomic;
-use sim::output::dataset_columns as col;
 use sim::sampling::shear_rheology::ShearRheology;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use surrogate::Dataset;
+use surrogate::{
+    bin_viscosity, mean_and_standard_error, Dataset, FlowCurvePoint, JammingLaw, SeededJammingFit,
+    SEEDS_LAW,
+};
 
 /// Centres of the `phi_loc` bands of the local-versus-homogeneous table.
 const LOCAL_BANDS: [f64; 7] = [0.44, 0.46, 0.48, 0.50, 0.52, 0.54, 0.56];
@@ -78,14 +79,6 @@ const CONVENTIONS: [Convention; 2] = [
     ("bins, scene's stress convention", |p| p.eta_r_bins),
 ];
 
-/// A convention's fit to all points, and its standard error from the seeds' separate fits.
-struct ConventionFit {
-    all: JammingLaw,
-    per_seed: Vec<(u64, JammingLaw)>,
-    phi_j_se: f64,
-    lambda_se: f64,
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, false)?;
     crate::output_guard::out_dir(&args.out)?;
@@ -111,7 +104,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let rheology = summary
             .shear
             .with_context(|| format!("{}: no `shear` box totals", path.display()))?;
-        let eta_r_bins = bin_viscosity(&work.profile_csv(), gs.scene.file.fluid.eta * gdot)?;
+        let eta_r_bins = bin_viscosity(
+            &Dataset::read_csv(work.profile_csv())?,
+            gs.scene.file.fluid.eta * gdot,
+        )?;
         points.push(FlowPoint {
             id: gs.id.clone(),
             phi: gs.scene.file.particles.phi,
@@ -132,7 +128,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             missing.join(", ")
         );
     }
-    let fits: Vec<ConventionFit> = CONVENTIONS
+    let fits: Vec<SeededJammingFit> = CONVENTIONS
         .iter()
         .map(|(_, value)| fit(&points, *value))
         .collect::<anyhow::Result<_>>()?;
@@ -150,20 +146,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     print!("{text}");
     eprintln!("wrote {}", args.out.display());
     Ok(())
-}
-
-/// `eta_r` of a scene's binned `sigma_xy` at `eta gdot` (the imposed rate): the mean over
-/// bins of `-sigma_xy / (eta gdot)`, standard error from the bins' standard errors.
-fn bin_viscosity(profile: &Path, eta_gdot: f64) -> anyhow::Result<(f64, f64)> {
-    let data = Dataset::read_csv(profile)?;
-    let (sigma, se) = (
-        data.column(col::SIGMA_XY)?,
-        data.column(&format!("{}_se", col::SIGMA_XY))?,
-    );
-    let n = sigma.len() as f64;
-    let mean = -sigma.iter().sum::<f64>() / n / eta_gdot;
-    let se = se.iter().map(|s| s * s).sum::<f64>().sqrt() / n / eta_gdot;
-    Ok((mean, se))
 }
 
 /// The points of each seed, in grid order.
@@ -186,42 +168,21 @@ fn per_seed(points: &[FlowPoint], value: fn(&FlowPoint) -> (f64, f64, f64)) -> V
         .collect()
 }
 
-/// The jamming law fitted to every point, and to each seed's points alone; the standard
-/// errors are the seeds' spread over `sqrt(seeds)`.
-fn fit(points: &[FlowPoint], value: fn(&FlowPoint) -> (f64, f64)) -> anyhow::Result<ConventionFit> {
-    let law = |sel: &[&FlowPoint]| {
-        let phi: Vec<f64> = sel.iter().map(|p| p.summary.phi_actual).collect();
-        let eta: Vec<f64> = sel.iter().map(|p| value(p).0).collect();
-        JammingLaw::fit(&phi, &eta)
-    };
-    let all = law(&points.iter().collect::<Vec<_>>())?;
-    let mut seeds: BTreeMap<u64, Vec<&FlowPoint>> = BTreeMap::new();
-    for p in points {
-        seeds.entry(p.seed).or_default().push(p);
-    }
-    let per_seed: Vec<(u64, JammingLaw)> = seeds
+/// The jamming law fitted to every point and to each seed's points, with `eta_r` from
+/// `value`.
+fn fit(
+    points: &[FlowPoint],
+    value: fn(&FlowPoint) -> (f64, f64),
+) -> anyhow::Result<SeededJammingFit> {
+    let points: Vec<FlowCurvePoint> = points
         .iter()
-        .map(|(&s, sel)| law(sel).map(|l| (s, l)))
-        .collect::<anyhow::Result<_>>()?;
-    let spread = |f: fn(&JammingLaw) -> f64| {
-        let n = per_seed.len() as f64;
-        if n < 2.0 {
-            return f64::NAN;
-        }
-        let m = per_seed.iter().map(|(_, l)| f(l)).sum::<f64>() / n;
-        let var = per_seed
-            .iter()
-            .map(|(_, l)| (f(l) - m).powi(2))
-            .sum::<f64>()
-            / (n - 1.0);
-        (var / n).sqrt()
-    };
-    Ok(ConventionFit {
-        phi_j_se: spread(|l| l.phi_j),
-        lambda_se: spread(|l| l.lambda),
-        all,
-        per_seed,
-    })
+        .map(|p| FlowCurvePoint {
+            seed: p.seed,
+            phi: p.summary.phi_actual,
+            eta_r: value(p).0,
+        })
+        .collect();
+    Ok(SeededJammingFit::fit(&points)?)
 }
 
 fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
@@ -321,21 +282,10 @@ fn draw_figures(out: &Path, points: &[FlowPoint], fitted: &JammingLaw) -> anyhow
     )
 }
 
-/// Mean and spread-over-sqrt(n) of `values`.
-fn mean_se(values: &[f64]) -> (f64, f64) {
-    let n = values.len() as f64;
-    let m = values.iter().sum::<f64>() / n;
-    if values.len() < 2 {
-        return (m, f64::NAN);
-    }
-    let var = values.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0);
-    (m, (var / n).sqrt())
-}
-
 fn summary_text(
     args: &Args,
     points: &[FlowPoint],
-    fits: &[ConventionFit],
+    fits: &[SeededJammingFit],
     local: Option<&[LocalBand]>,
 ) -> String {
     let mut s = String::from("# Flow curves of homogeneous simple shear\n\n");
@@ -369,7 +319,9 @@ fn summary_text(
         by_phi.entry(format!("{:.4}", p.phi)).or_default().push(p);
     }
     for sel in by_phi.values() {
-        let col = |f: fn(&FlowPoint) -> f64| mean_se(&sel.iter().map(|p| f(p)).collect::<Vec<_>>());
+        let col = |f: fn(&FlowPoint) -> f64| {
+            mean_and_standard_error(&sel.iter().map(|p| f(p)).collect::<Vec<_>>())
+        };
         let phi = col(|p| p.summary.phi_actual).0;
         let (eta, eta_se) = col(|p| p.rheology.eta_r.mean);
         let (bins, bins_se) = col(|p| p.eta_r_bins.0);

@@ -348,7 +348,7 @@ fn write_outputs(
     scenes: &[&GridRun],
 ) -> anyhow::Result<Option<ensemble_table::EnsembleSummary>> {
     let mut dataset = DatasetFile {
-        header: sim::output::dataset_columns::header(),
+        header: schema::columns::header(),
         runs: Default::default(),
     };
     let mut unfinished = std::collections::HashSet::new();

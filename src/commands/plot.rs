@@ -4,7 +4,7 @@
 //! a scene are drawn as one series each.
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
 use anyhow::Context;
-use sim::output::dataset_columns as col;
+use schema::columns as col;
 use std::path::PathBuf;
 use surrogate::Dataset;
 

@@ -15,9 +15,8 @@
 use anyhow::Context;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 use surrogate::{
-    evaluate_baseline, profile_names, seeds_validation_error, Baseline, Dataset, HyperParameters,
+    compare_contenders, profile_names, seeds_validation_error, Baseline, Contender, Dataset,
     Mapping, Samples, TableKind, TrainedModel, Tuning, Validation, PROFILE_COLUMN,
 };
 
@@ -209,68 +208,24 @@ fn print_comparison(c: &Checked, train: Option<&Path>, models: &Path) -> anyhow:
         return Ok(());
     };
     let outputs = c.mapping.outputs;
-    // (model, errors per output or why there are none, training time in s)
-    let mut rows: Vec<(String, Result<Vec<f64>, String>, f64)> = Vec::new();
-    let mut settings = vec![("as trained", meta.hyper_parameters.clone())];
-    let flipped = HyperParameters {
-        backbone: !meta.hyper_parameters.backbone,
-        ..meta.hyper_parameters.clone()
-    };
-    settings.push(if flipped.backbone {
-        ("the same on the backbone", flipped)
-    } else {
-        ("the same without backbone", flipped)
-    });
-    if meta.hyper_parameters != HyperParameters::default() {
-        settings.push(("XGBoost defaults", HyperParameters::default()));
-    }
-    for (label, params) in settings {
-        let started = Instant::now();
-        // A backbone that cannot be fitted on these rows makes its row not applicable.
-        let errors = TrainedModel::fit(c.mapping, &training, &params)
-            .and_then(|model| model.evaluate(&c.validation.samples))
-            .map_err(|e| format!("not applicable: {e}"));
-        let seconds = started.elapsed().as_secs_f64();
-        rows.push((
-            format!("xgboost, {label}: {}", describe(&params)),
-            errors,
-            seconds,
-        ));
-    }
-    for (label, baseline) in [
-        ("linear (linfa)", Baseline::Linear),
-        ("log-linear (linfa, ln of features)", Baseline::LogLinear),
-        (
-            "backbone alone: mu = A J^b, phi_loc by eq 6.7",
-            Baseline::LocalRheology,
-        ),
-    ] {
-        let score = evaluate_baseline(baseline, &training, &c.validation.samples);
-        let seconds = score
-            .as_ref()
-            .map_or(f64::NAN, |s| s.training_time.as_secs_f64());
-        rows.push((
-            label.to_owned(),
-            score
-                .map(|s| s.per_output)
-                .map_err(|e| format!("not applicable: {e}")),
-            seconds,
-        ));
-    }
+    let rows = compare_contenders(
+        c.mapping,
+        &meta.hyper_parameters,
+        &training,
+        &c.validation.samples,
+    );
+    let labels: Vec<String> = rows.iter().map(|r| contender_label(&r.contender)).collect();
     println!(
         "  on all validation rows, each model trained on {} ({} rows):",
         training.source_name,
         training.n_rows()
     );
-    let width = rows
-        .iter()
-        .map(|(label, _, _)| label.len())
-        .max()
-        .unwrap_or(0);
+    let width = labels.iter().map(String::len).max().unwrap_or(0);
     let header: String = outputs.iter().map(|o| format!("{o:>10}")).collect();
     println!("  {:<width$}{header}  {:>10}", "model", "training");
-    for (label, errors, seconds) in rows {
-        match errors {
+    for (label, row) in labels.iter().zip(rows) {
+        let seconds = row.training_seconds;
+        match row.errors {
             Ok(errors) => {
                 let cells: String = errors
                     .iter()
@@ -295,6 +250,20 @@ fn print_comparison(c: &Checked, train: Option<&Path>, models: &Path) -> anyhow:
         ),
     }
     Ok(())
+}
+
+/// A contender's label in the comparison table.
+fn contender_label(contender: &Contender) -> String {
+    match contender {
+        Contender::Xgboost { setting, params } => {
+            format!("xgboost, {setting}: {}", describe(params))
+        }
+        Contender::Baseline(Baseline::Linear) => "linear (linfa)".to_owned(),
+        Contender::Baseline(Baseline::LogLinear) => "log-linear (linfa, ln of features)".to_owned(),
+        Contender::Baseline(Baseline::LocalRheology) => {
+            "backbone alone: mu = A J^b, phi_loc by eq 6.7".to_owned()
+        }
+    }
 }
 
 /// The mapping's rows of its training data: `--train`, or the file the sidecar names. `None`
@@ -407,7 +376,7 @@ fn write_figures(data: &Dataset, checked: &[Checked], dir: &Path) -> anyhow::Res
         let mut panels = Vec::new();
         for &output in &outputs {
             let values = data.column(output)?;
-            let se_name = sim::output::dataset_columns::standard_error(output);
+            let se_name = schema::columns::standard_error(output);
             let errors = if columns.contains(&se_name) {
                 Some(data.column(&se_name)?)
             } else {

@@ -6,14 +6,13 @@
 //! between its profile and the reference; for independent averages of a steady, mixing
 //! run its square is expected to be `c (1/n + 1/reference)`, so it falls as 1/sqrt(n)
 //! until n approaches the reference length.
+use schema::Observable;
 use sim::input::scene::Scene;
-use sim::output::dataset_columns as col;
-use sim::sampling::bin_averages::Observables;
 use sim::sampling::run_length::{self, PartialAverage, SampledRun};
 use sim::SimError;
 
-/// Observables whose error is measured, with their column in [`Observables::columns`].
-pub const OBSERVABLES: [&str; 3] = [col::PHI_LOC, col::MU, col::U];
+/// Observables whose error is measured.
+pub const OBSERVABLES: [Observable; 3] = [Observable::PhiLoc, Observable::Mu, Observable::U];
 
 /// A partial average with what the report measures on it.
 pub struct MeasuredPartial {
@@ -26,12 +25,6 @@ pub struct MeasuredPartial {
 
 /// One scene's convergence run.
 pub type ConvergenceRun = SampledRun<MeasuredPartial>;
-
-/// Values of observable `name` in `o`.
-pub fn column<'a>(o: &'a Observables, name: &str) -> &'a [f64] {
-    o.column(name)
-        .unwrap_or_else(|| unreachable!("observable {name} is not in the dataset"))
-}
 
 /// `||a - b|| / ||b - offset||` over the bins where both are finite (NaN when none are):
 /// the metric of eq 6.6 (`surrogate::relative_l2_error`) on values shifted by `offset`.
@@ -60,8 +53,8 @@ pub fn run(scene: &Scene, partial: usize, reference: usize) -> Result<Convergenc
         averaging_strain: average.snapshots as f64 * sample_strain,
         error: OBSERVABLES.map(|o| {
             relative_l2(
-                column(&average.averages.mean, o),
-                column(&reference.mean, o),
+                average.averages.mean.column(o),
+                reference.mean.column(o),
                 0.0,
             )
         }),

@@ -5,7 +5,7 @@
 //! standard error), drawn along y in `descriptors_along_y.svg`.
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
 use anyhow::Context;
-use sim::output::dataset_columns as col;
+use schema::columns as col;
 use std::fmt::Write as _;
 use std::path::Path;
 use surrogate::{Dataset, TrainedModel, Validation};

@@ -6,8 +6,9 @@
 //! one gets there, else extrapolated from the longest
 //! with `error^2 = c (1/n + 1/reference)`.
 use crate::prediction_timing::time_mapping;
-use crate::report::convergence::{column, noise_constant, relative_l2, ConvergenceRun};
+use crate::report::convergence::{noise_constant, relative_l2, ConvergenceRun};
 use anyhow::Context;
+use schema::Observable;
 use std::fmt::Write as _;
 use std::path::Path;
 use surrogate::{relative_l2_error, Dataset, Mapping, Predictor, Samples, MAPPINGS};
@@ -48,7 +49,7 @@ pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Re
         let path = dir.join(format!("reference_{id}.csv"));
         let csv = format!(
             "{}\n{}",
-            sim::output::dataset_columns::header(),
+            schema::columns::header(),
             sim::output::result_files::profile_rows(&run.scene, &run.reference, &run.summary)
         );
         sim::output::atomic_write::write_atomic(&path, csv.as_bytes())?;
@@ -65,7 +66,10 @@ pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Re
             let ms = time_mapping(mapping, models, &path, 20)?.median_ms;
             for (k, &output) in mapping.outputs.iter().enumerate() {
                 let min = model.meta().scaling.ranges[k].min;
-                let (simulation, reference_noise) = simulation_cost(run, output, min, errors[k]);
+                let observable = Observable::from_name(output)
+                    .with_context(|| format!("output `{output}` is not a profile observable"))?;
+                let (simulation, reference_noise) =
+                    simulation_cost(run, observable, min, errors[k]);
                 rows.push(Row {
                     scene_id: id.clone(),
                     mapping: mapping.name,
@@ -102,18 +106,18 @@ fn surrogate_errors(
 /// reference's own noise in that metric.
 fn simulation_cost(
     run: &ConvergenceRun,
-    output: &str,
+    output: Observable,
     min: f64,
     target: f64,
 ) -> (SimulationCost, f64) {
-    let reference = column(&run.reference.mean, output);
+    let reference = run.reference.mean.column(output);
     let points: Vec<(f64, f64)> = run
         .partials
         .iter()
         .map(|p| {
             (
                 p.average.snapshots as f64,
-                relative_l2(column(&p.average.averages.mean, output), reference, min),
+                relative_l2(p.average.averages.mean.column(output), reference, min),
             )
         })
         .collect();

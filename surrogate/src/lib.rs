@@ -14,65 +14,52 @@
 //! families left out; [`Validation`] measures a model on unseen flow profiles. Predictions
 //! are clipped into each output's [`physical_range`].
 //!
+//! The modules sit in four stage folders, each importing only from earlier ones (and from
+//! [`error`]): [`data`], [`rheology`] (the backbone, the jamming law, ensemble statistics), [`models`], [`validation`].
+//!
 //! The XGBoost library is the pinned `xgboost-cpu` wheel's `libxgboost.so`, provided by the
 //! workspace's `vendor/xgboost_lib-sys` crate; see its build script.
 
-pub mod backbone;
-pub mod baselines;
-pub mod booster;
-pub mod cross_validation;
-pub mod dataset;
+pub mod data;
 pub mod error;
-pub mod excerpt;
-pub mod family_cv;
-pub mod family_folds;
-mod files;
-mod fingerprint;
-pub mod forest;
-pub mod local_rheology;
-pub mod mapping;
-pub mod metrics;
-pub mod model;
-pub mod physical_range;
-pub mod predictor;
-pub mod profile_solver;
-pub mod samples;
-pub mod scaling;
-pub mod table_kind;
-pub mod training_domain;
-pub mod tuning;
+pub mod models;
+pub mod rheology;
 pub mod validation;
-mod xgboost_json;
 
-pub use baselines::{evaluate_baseline, Baseline, BaselineScore};
-pub use booster::{xgboost_version, Booster, HyperParameters, MultiStrategy};
-pub use cross_validation::{
+pub use data::dataset::{Dataset, GROUP_COLUMN, PROFILE_COLUMN};
+pub use data::excerpt::excerpt;
+pub use data::mapping::{Mapping, MAPPINGS};
+pub use data::physical_range::{clip_to_physical_range, physical_range, PHI_LOC_MAX};
+pub use data::samples::Samples;
+pub use data::scaling::{MinMaxScaling, Range};
+pub use data::table_kind::TableKind;
+pub use data::training_domain::{DomainCheck, TrainingDomain};
+pub use error::{Result, SurrogateError};
+pub use models::booster::{xgboost_version, Booster, HyperParameters, MultiStrategy};
+pub use models::forest::Forest;
+pub use models::metrics::relative_l2_error;
+pub use models::model::{ModelMeta, TrainedModel, TrainingData};
+pub use models::predictor::Predictor;
+pub use rheology::agreement::{agreement, Agreement};
+pub use rheology::ensemble::{build_ensemble, Ensemble, EnsembleSummary, ObservableSummary};
+pub use rheology::flow_curve_fit::{bin_viscosity, FlowCurvePoint, SeededJammingFit};
+pub use rheology::jamming_law::{JammingLaw, SEEDS_LAW};
+pub use rheology::local_rheology::LocalRheology;
+pub use rheology::statistics::{mean_and_standard_error, median};
+pub use validation::baselines::{evaluate_baseline, Baseline, BaselineScore};
+pub use validation::comparison::{compare_contenders, ComparisonRow, Contender};
+pub use validation::cross_validation::{
     cross_validate, grid_search, grouped_k_fold, leave_one_group_out, CvScore, Fold, GridSearch,
     HyperParameterGrid,
 };
-pub use dataset::{Dataset, GROUP_COLUMN, PROFILE_COLUMN};
-pub use error::{Result, SurrogateError};
-pub use excerpt::excerpt;
-pub use family_cv::{
+pub use validation::family_cv::{
     FamilyCv, FoldErrors, MeanErrors, RowErrors, Variant, VariantErrors, VariantSummary,
 };
-pub use family_folds::{
+pub use validation::family_folds::{
     family_names, leave_one_family_out, tuning_folds, FamilyFold, LeftOut, MIN_TUNING_FAMILIES,
 };
-pub use forest::Forest;
-pub use local_rheology::LocalRheology;
-pub use mapping::{Mapping, MAPPINGS};
-pub use metrics::relative_l2_error;
-pub use model::{ModelMeta, TrainedModel, TrainingData};
-pub use physical_range::{clip_to_physical_range, physical_range, PHI_LOC_MAX};
-pub use predictor::Predictor;
-pub use profile_solver::{Closure, LearnedClosure, ProfileProblem, ProfileSolution};
-pub use samples::Samples;
-pub use scaling::{MinMaxScaling, Range};
-pub use table_kind::TableKind;
-pub use training_domain::{DomainCheck, TrainingDomain};
-pub use tuning::{standard_grid, Tuning};
-pub use validation::{
+pub use validation::tuning::{standard_grid, Tuning};
+pub use validation::unseen_profiles::{
     profile_names, seeds_validation_error, ProfileError, Validation, ALL_PROFILES, IN_DOMAIN,
     OUT_OF_DOMAIN,
 };

@@ -2,5 +2,4 @@
 
 pub mod atomic_write;
 pub mod checkpoint;
-pub mod dataset_columns;
 pub mod result_files;

@@ -9,6 +9,7 @@ use crate::sampling::conventions::{
 };
 use crate::sampling::periodic_derivative;
 use crate::sampling::snapshot::field::*;
+use schema::Observable;
 use serde::Serialize;
 
 /// Regulariser of Delta_v (thesis eq 6.2).
@@ -91,16 +92,12 @@ pub struct Observables {
 }
 
 impl Observables {
-    /// The values of the observable called `name` (a name of
-    /// [`OBSERVABLES`](crate::output::dataset_columns::OBSERVABLES)), if it is one.
-    pub fn column(&self, name: &str) -> Option<&[f64]> {
-        let index = crate::output::dataset_columns::OBSERVABLES
-            .iter()
-            .position(|&c| c == name)?;
-        Some(self.columns()[index].as_slice())
+    /// The values of observable `o`.
+    pub fn column(&self, o: Observable) -> &[f64] {
+        self.columns()[o.index()]
     }
 
-    /// Columns in the order of [`OBSERVABLES`](crate::output::dataset_columns::OBSERVABLES).
+    /// Columns in the order of [`OBSERVABLES`](schema::columns::OBSERVABLES).
     pub fn columns(&self) -> [&Vec<f64>; 11] {
         [
             &self.u,

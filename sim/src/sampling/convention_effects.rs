@@ -2,13 +2,19 @@
 //! the profile of one run's snapshot sums under every alternative convention against the
 //! same sums under the defaults, bin by bin.
 use crate::error::SimError;
-use crate::output::dataset_columns::{DELTA_V, J, MU, PHI_LOC, THETA};
 use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::block_sums::BlockSums;
 use crate::sampling::conventions::Conventions;
+use schema::Observable;
 
 /// The observables whose change is reported.
-pub const COMPARED: [&str; 5] = [MU, PHI_LOC, THETA, DELTA_V, J];
+pub const COMPARED: [Observable; 5] = [
+    Observable::Mu,
+    Observable::PhiLoc,
+    Observable::Theta,
+    Observable::DeltaV,
+    Observable::J,
+];
 
 /// One alternative convention against the defaults.
 #[derive(Clone, Debug)]
@@ -38,11 +44,8 @@ pub fn convention_effects(
         .into_iter()
         .map(|(option, conventions)| {
             let other = under(conventions)?;
-            let relative = COMPARED.map(|name| {
-                let (a, d) = (
-                    other.mean.column(name).expect("a dataset observable"),
-                    default.mean.column(name).expect("a dataset observable"),
-                );
+            let relative = COMPARED.map(|o| {
+                let (a, d) = (other.mean.column(o), default.mean.column(o));
                 a.iter()
                     .zip(d)
                     .filter(|(a, d)| a.is_finite() && d.is_finite() && **d != 0.0)

@@ -1,0 +1,91 @@
+//! The profile solver on the shipped validation flows: from the forcing alone to u, phi_loc
+//! and mu, against the simulated profiles.
+use std::path::PathBuf;
+
+use solver::{
+    fit_local_rheology, Closure, LearnedClosure, ProfileProblem, ProfileSolution, TOLERANCE,
+};
+use surrogate::{Dataset, LocalRheology, Predictor};
+
+fn repo(path: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(path)
+}
+
+/// The local rheology fitted on the shipped training data.
+fn local_law() -> LocalRheology {
+    fit_local_rheology(&Dataset::read_csv(repo("datasets/train.csv")).unwrap()).unwrap()
+}
+
+/// `6 pi eta <a> / <V_p>` for equal numbers of radii 1 and 1.4, eta = 1.
+fn drag_coefficient() -> f64 {
+    let pi = std::f64::consts::PI;
+    6.0 * pi * 1.2 / (4.0 / 3.0 * pi * (1.0 + 1.4f64.powi(3)) / 2.0)
+}
+
+/// One simulated scene of `datasets/validate.csv`: its problem and simulated columns.
+fn scene(id: &str) -> (ProfileProblem, Vec<Vec<f64>>) {
+    let data = Dataset::read_csv(repo("datasets/validate.csv")).unwrap();
+    let ids = data.text("scene_id").unwrap();
+    let rows: Vec<usize> = (0..data.n_rows()).filter(|&r| ids[r] == id).collect();
+    let col = |name: &str| -> Vec<f64> {
+        let c = data.column(name).unwrap();
+        rows.iter().map(|&r| c[r]).collect()
+    };
+    let y = col("y");
+    let problem = ProfileProblem {
+        u_inf: col("u_inf"),
+        bin_width: y[1] - y[0],
+        phi: col("phi")[0],
+        eta: 1.0,
+        drag_coefficient: drag_coefficient(),
+    };
+    (problem, vec![col("u"), col("phi_loc"), col("mu")])
+}
+
+fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
+    let d: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
+    (d / b.iter().map(|y| y * y).sum::<f64>()).sqrt()
+}
+
+fn check(s: &ProfileSolution, problem: &ProfileProblem) {
+    // Mean phi_loc is phi, and the total drag on the particles vanishes (the bin balances
+    // summed over a period telescope): neither is imposed row by row.
+    let n = s.phi_loc.len() as f64;
+    assert!((s.phi_loc.iter().sum::<f64>() / n - problem.phi).abs() < 1e-8);
+    let drag_scale = s.f_x.iter().map(|f| f.abs()).sum::<f64>();
+    assert!(s.f_x.iter().sum::<f64>().abs() < 1e-6 * drag_scale);
+    assert!(s.residual <= TOLERANCE);
+}
+
+/// Solves both validation scenes with `closure` and checks each solution (see [`check`]) and
+/// its errors of u, phi_loc and mu against the simulation, below `bounds`.
+fn solve_validation_scenes(closure: &dyn Closure, bounds: [f64; 3]) {
+    for id in ["validate_000", "validate_001"] {
+        let (problem, simulated) = scene(id);
+        let s = problem.solve(closure, 0.2).unwrap();
+        check(&s, &problem);
+        let errors = [
+            rel_l2(&s.u, &simulated[0]),
+            rel_l2(&s.phi_loc, &simulated[1]),
+            rel_l2(&s.mu, &simulated[2]),
+        ];
+        println!(
+            "{id}: {} iterations, errors u, phi_loc, mu {errors:?}",
+            s.iterations
+        );
+        assert!(errors.iter().zip(bounds).all(|(e, b)| *e < b), "{errors:?}");
+    }
+}
+
+#[test]
+fn local_rheology_reproduces_the_simulated_validation_profiles() {
+    solve_validation_scenes(&local_law(), [0.03, 0.05, 0.10]);
+}
+
+#[test]
+fn learned_closure_converges_on_the_validation_profiles() {
+    let closure = LearnedClosure::new(Predictor::load(&repo("models"), "dv").unwrap()).unwrap();
+    solve_validation_scenes(&closure, [0.05, 0.08, 0.10]);
+}

@@ -1,0 +1,9 @@
+//! Stage 3, the models: XGBoost boosters trained on samples, saved with their sidecar, read
+//! back as predictors that walk the trees themselves; the relative L2 error (eq 6.6).
+
+pub mod booster;
+pub mod forest;
+pub mod metrics;
+pub mod model;
+pub mod predictor;
+pub(crate) mod xgboost_json;

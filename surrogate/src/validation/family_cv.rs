@@ -1,0 +1,263 @@
+//! Leave-one-family-out comparison of three ways to predict a mapping's outputs: XGBoost
+//! alone, the physics backbone alone ([`crate::rheology::local_rheology`]: `mu = A J^b`, `phi_loc`
+//! from eq 6.7) and XGBoost on the backbone's residual.
+//!
+//! Each fold holds out one profile family ([`crate::validation::family_folds`]); the three variants are
+//! fitted on the fold's training rows with the same hyper-parameters (the trees' settings;
+//! only whether they learn the outputs or the residual differs), and so is the training
+//! domain ([`TrainingDomain`]), which splits the held-out rows into those inside and those
+//! outside. The error is the relative L2 error of eq 6.6 with the outputs min-max scaled on
+//! the fold's training rows, as in tuning and validation, on all held-out rows, the
+//! in-domain ones and the out-of-domain ones.
+
+use ndarray::{Array2, Axis};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::data::mapping::Mapping;
+use crate::data::samples::Samples;
+use crate::error::{Result, SurrogateError};
+use crate::models::booster::HyperParameters;
+use crate::models::metrics::relative_l2_error;
+use crate::models::model::TrainedModel;
+use crate::rheology::backbone::Backbone;
+use crate::validation::family_folds::{leave_one_family_out, FamilyFold};
+
+/// One way of predicting the outputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Variant {
+    /// Trees on the min-max scaled outputs (the thesis' model).
+    Trees,
+    /// The fitted local rheology alone; reads J only.
+    Backbone,
+    /// The local rheology plus trees on its scaled residual.
+    BackboneTrees,
+}
+
+impl Variant {
+    /// Every variant, in report order.
+    pub const ALL: [Variant; 3] = [Variant::Trees, Variant::Backbone, Variant::BackboneTrees];
+
+    /// How reports name the variant.
+    pub fn label(self) -> &'static str {
+        match self {
+            Variant::Trees => "XGBoost alone",
+            Variant::Backbone => "backbone alone",
+            Variant::BackboneTrees => "backbone + XGBoost",
+        }
+    }
+}
+
+/// Errors on one class of held-out rows.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RowErrors {
+    /// Rows in the class.
+    pub rows: usize,
+    /// Relative L2 error of each output (eq 6.6), as a fraction; `None` without rows or when
+    /// the variant could not be fitted.
+    pub per_output: Option<Vec<f64>>,
+}
+
+/// One variant's errors on one fold.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct VariantErrors {
+    pub variant: Variant,
+    pub all: RowErrors,
+    pub in_domain: RowErrors,
+    pub out_of_domain: RowErrors,
+    /// Why the variant has no errors on this fold (the backbone's laws did not fit the
+    /// fold's training rows).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_applicable: Option<String>,
+}
+
+/// The errors of every variant on the fold that holds out `family`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FoldErrors {
+    /// The profile family held out.
+    pub family: String,
+    /// Rows trained on.
+    pub train_rows: usize,
+    /// One entry per variant, in [`Variant::ALL`] order.
+    pub variants: Vec<VariantErrors>,
+}
+
+/// Mean over the held-out families of one class's errors.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeanErrors {
+    /// Families that had rows of the class (and a fitted variant).
+    pub families: usize,
+    /// Mean error of each output over those families; `None` when there are none.
+    pub per_output: Option<Vec<f64>>,
+}
+
+/// One variant's errors averaged over the families.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct VariantSummary {
+    pub variant: Variant,
+    pub all: MeanErrors,
+    pub in_domain: MeanErrors,
+    pub out_of_domain: MeanErrors,
+}
+
+/// Leave-one-family-out errors of the three variants for one mapping.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FamilyCv {
+    pub mapping: String,
+    pub outputs: Vec<String>,
+    /// The trees' settings, for both variants with trees (`backbone` is set per variant).
+    pub hyper_parameters: HyperParameters,
+    /// Rows used (rows with an empty cell in the mapping's columns are left out).
+    pub rows: usize,
+    /// Rows of the source left out for an empty cell.
+    pub skipped_rows: usize,
+    /// One entry per family, in sorted order of the families.
+    pub folds: Vec<FoldErrors>,
+    /// One entry per variant, in [`Variant::ALL`] order.
+    pub summary: Vec<VariantSummary>,
+}
+
+impl FamilyCv {
+    /// Runs the comparison on `samples` (which need at least two profile families); the
+    /// folds run in parallel on rayon's pool, and `done` is called as each one finishes.
+    pub fn run(
+        mapping: &Mapping,
+        samples: &Samples,
+        params: &HyperParameters,
+        done: &(dyn Fn(&FoldErrors) + Sync),
+    ) -> Result<Self> {
+        let folds = leave_one_family_out(samples)?
+            .par_iter()
+            .map(|fold| {
+                let errors = fold_errors(mapping, samples, fold, params).map_err(|e| {
+                    SurrogateError::InvalidArgument(format!(
+                        "holding out profile family `{}`: {e}",
+                        fold.family
+                    ))
+                })?;
+                done(&errors);
+                Ok(errors)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let summary = Variant::ALL
+            .iter()
+            .enumerate()
+            .map(|(k, &variant)| {
+                let mean = |class: fn(&VariantErrors) -> &RowErrors| {
+                    mean_errors(folds.iter().map(|f| class(&f.variants[k])))
+                };
+                VariantSummary {
+                    variant,
+                    all: mean(|v| &v.all),
+                    in_domain: mean(|v| &v.in_domain),
+                    out_of_domain: mean(|v| &v.out_of_domain),
+                }
+            })
+            .collect();
+        Ok(FamilyCv {
+            mapping: mapping.name.to_owned(),
+            outputs: samples.output_names.clone(),
+            hyper_parameters: params.clone(),
+            rows: samples.n_rows(),
+            skipped_rows: samples.skipped_rows,
+            folds,
+            summary,
+        })
+    }
+}
+
+/// Fits the three variants and the training domain on `fold`'s training rows and measures
+/// them on its test rows.
+fn fold_errors(
+    mapping: &Mapping,
+    samples: &Samples,
+    fold: &FamilyFold,
+    params: &HyperParameters,
+) -> Result<FoldErrors> {
+    let train = samples.subset(&fold.fold.train)?;
+    let test = samples.subset(&fold.fold.test)?;
+    let with_backbone = |backbone| HyperParameters {
+        backbone,
+        ..params.clone()
+    };
+    let trees = TrainedModel::fit(mapping, &train, &with_backbone(false))?;
+    let inside = trees.domain().inside(test.features.view())?;
+    let classes: [Vec<usize>; 3] = [
+        (0..test.n_rows()).collect(),
+        (0..test.n_rows()).filter(|&i| inside[i]).collect(),
+        (0..test.n_rows()).filter(|&i| !inside[i]).collect(),
+    ];
+    let scaling = &trees.meta().scaling;
+    let truth = scaling.scale(test.outputs.view())?;
+    // The backbone alone, or why its laws do not fit these rows.
+    let law = Backbone::fit(&train).map(|(backbone, _)| backbone);
+    let mut variants = Vec::with_capacity(Variant::ALL.len());
+    for variant in Variant::ALL {
+        let predicted = match (variant, &law) {
+            (Variant::Trees, _) => Ok(trees.predict_features(test.features.view())?),
+            (_, Err(why)) => Err(why.to_string()),
+            (Variant::Backbone, Ok(law)) => Ok(law.law_prediction(
+                &test.feature_names,
+                &test.output_names,
+                test.features.view(),
+            )?),
+            (Variant::BackboneTrees, Ok(_)) => {
+                Ok(TrainedModel::fit(mapping, &train, &with_backbone(true))?
+                    .predict_features(test.features.view())?)
+            }
+        };
+        let scaled = match &predicted {
+            Ok(values) => Some(scaling.scale(values.view())?),
+            Err(_) => None,
+        };
+        let [all, in_domain, out_of_domain] = classes
+            .each_ref()
+            .map(|rows| row_errors(&truth, scaled.as_ref(), rows));
+        variants.push(VariantErrors {
+            variant,
+            all: all?,
+            in_domain: in_domain?,
+            out_of_domain: out_of_domain?,
+            not_applicable: predicted.err(),
+        });
+    }
+    Ok(FoldErrors {
+        family: fold.family.clone(),
+        train_rows: train.n_rows(),
+        variants,
+    })
+}
+
+/// The error of `predicted` (scaled; `None` for a variant without predictions) on `rows`.
+fn row_errors(
+    truth: &Array2<f64>,
+    predicted: Option<&Array2<f64>>,
+    rows: &[usize],
+) -> Result<RowErrors> {
+    let per_output = match predicted {
+        Some(predicted) if !rows.is_empty() => Some(relative_l2_error(
+            truth.select(Axis(0), rows).view(),
+            predicted.select(Axis(0), rows).view(),
+        )?),
+        _ => None,
+    };
+    Ok(RowErrors {
+        rows: rows.len(),
+        per_output,
+    })
+}
+
+/// The mean over the folds that have errors of each output.
+fn mean_errors<'a>(errors: impl Iterator<Item = &'a RowErrors>) -> MeanErrors {
+    let present: Vec<&Vec<f64>> = errors.filter_map(|e| e.per_output.as_ref()).collect();
+    let per_output = present.first().map(|first| {
+        (0..first.len())
+            .map(|j| present.iter().map(|e| e[j]).sum::<f64>() / present.len() as f64)
+            .collect()
+    });
+    MeanErrors {
+        families: present.len(),
+        per_output,
+    }
+}

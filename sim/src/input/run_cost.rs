@@ -85,3 +85,33 @@ impl RunCost {
         Ok((s > WARN_SECONDS).then(|| format!("long run: {what}")))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lasting(seconds: f64) -> RunCost {
+        RunCost {
+            steps_per_strain: 1e3,
+            equilibration_particle_steps: seconds * PARTICLE_STEPS_PER_S,
+            averaging_particle_steps: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_day_warns_a_year_is_refused_and_no_length_is_refused() {
+        assert_eq!(lasting(3600.0).check().unwrap(), None);
+        let warning = lasting(2.0 * WARN_SECONDS).check().unwrap().unwrap();
+        assert!(warning.contains("about 2.0 days here"), "{warning}");
+        let refusal = lasting(2.0 * REFUSE_SECONDS)
+            .check()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            refusal.contains("the run cannot finish") && refusal.contains("about 2.0 years here"),
+            "{refusal}"
+        );
+        assert!(lasting(f64::NAN).check().is_err());
+        assert!(lasting(f64::INFINITY).check().is_err());
+    }
+}

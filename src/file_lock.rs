@@ -1,5 +1,5 @@
-//! An exclusive lock on an output, so that two `suspflow generate` runs on one output
-//! refuse to share it instead of deleting each other's files. The lock is the operating
+//! An exclusive lock on an output, so that two `suspflow generate` (or `simulate`) runs on
+//! one output refuse to share it instead of deleting each other's files. The lock is the operating
 //! system's advisory lock on a small file (which holds the owner's process id for the
 //! message): it is released when the process ends, however it ends, so a killed run leaves
 //! no stale lock behind.
@@ -14,9 +14,9 @@ pub struct FileLock {
 }
 
 impl FileLock {
-    /// Takes the lock at `path` (created if missing); `what` names the guarded output in the
-    /// refusal when another process holds it.
-    pub fn acquire(path: &Path, what: &str) -> anyhow::Result<FileLock> {
+    /// Takes the lock at `path` (created if missing); `what` names the guarded output and
+    /// `command` the command that takes it in the refusal when another process holds it.
+    pub fn acquire(path: &Path, what: &str, command: &str) -> anyhow::Result<FileLock> {
         let mut file = OpenOptions::new()
             .create(true)
             .truncate(false)
@@ -35,7 +35,7 @@ impl FileLock {
                 let mut owner = String::new();
                 file.read_to_string(&mut owner).ok();
                 bail!(
-                    "{what} is in use by another `suspflow generate` (process {}, lock {}); \
+                    "{what} is in use by another `suspflow {command}` (process {}, lock {}); \
                      wait for it to finish, or stop it (its work is kept) and run again",
                     owner.trim(),
                     path.display()
@@ -57,8 +57,8 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("suspflow-lock-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("lock");
-        let first = FileLock::acquire(&path, "out.csv").unwrap();
-        let message = FileLock::acquire(&path, "out.csv")
+        let first = FileLock::acquire(&path, "out.csv", "generate").unwrap();
+        let message = FileLock::acquire(&path, "out.csv", "generate")
             .err()
             .unwrap()
             .to_string();
@@ -68,7 +68,7 @@ mod tests {
             "{message}"
         );
         drop(first);
-        assert!(FileLock::acquire(&path, "out.csv").is_ok());
+        assert!(FileLock::acquire(&path, "out.csv", "generate").is_ok());
         std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -592,3 +592,107 @@ fn coverage_draws_both_planes_and_tabulates_the_ranges_of_the_data() {
     assert_eq!(row("mu"), "| `mu` | [0.5, 1.5], 1 empty | - |");
     assert!(!table.contains("`profile`") && !table.contains("`scene_id`"));
 }
+
+/// Option values beyond what a command can do are refused before anything runs, naming
+/// the option and the limit; negative numbers are read as values, not as flags.
+#[test]
+fn option_values_beyond_their_limits_are_refused() {
+    let tiny = "tests/scenes/good/tiny.toml";
+    let out = temp_dir("limits");
+    let out = out.to_str().unwrap();
+    for (args, expect) in [
+        (
+            &["simulate", tiny, "--out", out, "--threads", "100000"][..],
+            "invalid value '100000' for '--threads <THREADS>': 100000 threads on",
+        ),
+        (
+            &["simulate", tiny, "--out", out, "--threads", "-1"][..],
+            "`-1` is not a thread count",
+        ),
+        (&["bench", "--threads", "1,100000"][..], "100000 threads on"),
+        (
+            &[
+                "generate",
+                "tests/grids/tiny.toml",
+                "--out",
+                out,
+                "--jobs",
+                "100000",
+            ][..],
+            "invalid value '100000' for '--jobs <JOBS>'",
+        ),
+        (
+            &["bench", "--steps", "-5"][..],
+            "invalid value '-5' for '--steps <STEPS>'",
+        ),
+        (
+            &["bench-predict", "--rows", "100000000"][..],
+            "invalid value '100000000' for '--rows <ROWS>': 100000000 is not in 1..=1000000",
+        ),
+        (
+            &["report", "--name", "../x", "--out", out][..],
+            "invalid value '../x' for '--name <NAME>': `../x` starts with '.'",
+        ),
+    ] {
+        let result = suspflow(args);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert!(
+            !result.status.success() && stderr.contains(expect),
+            "{args:?}: {stderr}"
+        );
+    }
+    assert!(!Path::new(out).exists(), "nothing written");
+}
+
+/// SIGTERM (a batch scheduler's time limit) stops a run with a checkpoint, as Ctrl-C does;
+/// a second `simulate` on the same `--out` is refused while the first runs; a resumed run
+/// that finishes removes its checkpoint, so a plain re-run calls it finished.
+#[test]
+fn sigterm_checkpoints_a_run_held_by_its_lock_and_a_finished_resume_leaves_none() {
+    let dir = temp_dir("sigterm");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("long.toml");
+    let text = std::fs::read_to_string(root().join("tests/scenes/good/tiny.toml")).unwrap();
+    std::fs::write(&scene, text.replace("snapshots = 40", "snapshots = 2000")).unwrap();
+    let out = dir.join("run");
+    let (scene, out_s) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let first = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+        .args(["simulate", scene, "--out", out_s])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    while !out.join("simulate.lock").exists() {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let second = suspflow(&["simulate", scene, "--out", out_s, "--force"]);
+    let stderr = String::from_utf8_lossy(&second.stderr);
+    assert!(
+        !second.status.success() && stderr.contains("is in use by another `suspflow simulate`"),
+        "{stderr}"
+    );
+    // Past the handler's installation (right after the lock), inside the run.
+    std::thread::sleep(std::time::Duration::from_millis(700));
+    let pid = first.id().to_string();
+    assert!(Command::new("kill")
+        .args(["-TERM", &pid])
+        .status()
+        .unwrap()
+        .success());
+    let stopped = first.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&stopped.stderr);
+    assert!(
+        !stopped.status.success() && stderr.contains("continue with --resume"),
+        "{stderr}"
+    );
+    assert!(out.join("checkpoint.json").exists());
+    assert_ok(&suspflow(&["simulate", scene, "--out", out_s, "--resume"]));
+    assert!(out.join("profile.csv").exists() && !out.join("checkpoint.json").exists());
+    let rerun = suspflow(&["simulate", scene, "--out", out_s]);
+    let stderr = String::from_utf8_lossy(&rerun.stderr);
+    assert!(
+        stderr.contains("(the result of an earlier run)"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

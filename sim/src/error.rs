@@ -25,6 +25,14 @@ pub enum SimError {
         what: String,
         cause: String,
     },
+    /// The run finished, but its momentum balance says its dynamics were wrong.
+    #[error("momentum residual {residual:.3} of the drag scale, above the {limit} that correct runs stay below: the dynamics are wrong, most likely a time step ({dt:.3e}, set by {dt_limit}) beyond its stability limit; lower run.dt_factor, run.dt_safety or run.dt")]
+    MomentumImbalance {
+        residual: f64,
+        limit: f64,
+        dt: f64,
+        dt_limit: String,
+    },
     /// The run did not reach a steady state within its strain budget.
     #[error("no steady state within the budget of strain {budget}: {detail}")]
     NotSteady { budget: f64, detail: String },

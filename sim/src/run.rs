@@ -9,6 +9,7 @@ use crate::integrate::simulation::{Simulation, SystemState};
 use crate::integrate::stage_timers::Stage;
 use crate::integrate::timestep::TimeStep;
 use crate::output::checkpoint;
+use crate::output::result_files::SNAPSHOT_SUMS;
 use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::binning::Bins;
 use crate::sampling::block_sums::BlockSums;
@@ -33,6 +34,15 @@ pub const PACKING_GAP: f64 = 4e-3;
 /// sheared scene may take millions of steps between snapshots, and Ctrl-C must not wait
 /// for them (one look costs an atomic load; a step costs microseconds or more).
 const INTERRUPT_POLL_STEPS: u64 = 256;
+
+/// Largest momentum residual (docs/physics.md section 7) of a run whose dynamics are
+/// right; above it the run fails. Correct runs stay well below: the 140 shipped runs
+/// 0.0003-0.0066 with a profile and 0.036-0.21 in homogeneous shear (where the drag
+/// density it is relative to is only noise), the report's stability sweep at most 0.13;
+/// the explicit step beyond its stability limit (`dt_factor = 10`) gives 0.62. 0.35 is
+/// near their geometric mean, 1.7 times the largest correct run and 1.8 times below the
+/// unstable one.
+pub const MOMENTUM_RESIDUAL_MAX: f64 = 0.35;
 
 /// Where a run is.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
@@ -197,6 +207,112 @@ fn fresh_state(scene: &Scene) -> RunState {
     }
 }
 
+/// What in a checkpoint of `scene` (same scene file) has the wrong size or an impossible
+/// value, if anything: every particle array and the list's reference positions hold one
+/// entry per particle, identities are a permutation, species index the radii, positions
+/// and velocities are finite, and the snapshot sums are laid out as a fresh run's.
+fn shape_mismatch(scene: &Scene, st: &RunState, system: &SystemState) -> Option<String> {
+    let n = scene.n_particles();
+    let p = &system.particles;
+    let lengths = [
+        ("positions", p.pos.len()),
+        ("velocities", p.vel.len()),
+        ("angular velocities", p.omega.len()),
+        ("forces", p.force.len()),
+        ("torques", p.torque.len()),
+        ("radii", p.radius.len()),
+        ("species", p.species.len()),
+        ("masses", p.mass.len()),
+        ("identities", p.id.len()),
+        (
+            "neighbour-list reference positions",
+            system.list_reference.len(),
+        ),
+    ];
+    if let Some((what, len)) = lengths.iter().find(|(_, len)| *len != n) {
+        return Some(format!("{len} {what} for the scene's {n} particles"));
+    }
+    let mut ids = p.id.clone();
+    ids.sort_unstable();
+    if ids.iter().enumerate().any(|(k, &id)| id as usize != k) {
+        return Some("particle identities are not 0..N each once".into());
+    }
+    let species = scene.file.particles.radii.len();
+    if p.species.iter().any(|&s| s as usize >= species) {
+        return Some(format!(
+            "a species index beyond the scene's {species} radii"
+        ));
+    }
+    let vectors = [
+        &p.pos,
+        &p.vel,
+        &p.omega,
+        &p.force,
+        &p.torque,
+        &system.list_reference,
+    ];
+    if vectors
+        .iter()
+        .any(|v| v.iter().any(|x| !x.iter().all(|c| c.is_finite())))
+    {
+        return Some("a non-finite position, velocity or force".into());
+    }
+    let fresh = fresh_state(scene);
+    let layout = |b: &BlockSums| (b.n_bins, b.per_block, b.sums.len());
+    if layout(&st.averaging) != layout(&fresh.averaging)
+        || layout(&st.steady.window) != layout(&fresh.steady.window)
+        || st
+            .steady
+            .window
+            .sums
+            .iter()
+            .any(|s| s.len() != fresh.steady.window.sums[0].len())
+        || st
+            .steady
+            .window_means
+            .iter()
+            .flatten()
+            .any(|m| m.len() != scene.n_bins)
+    {
+        return Some("snapshot sums of another size than the scene's bins and blocks".into());
+    }
+    None
+}
+
+/// Fails when the folder of `checkpoint` (which does not exist) holds the finished run
+/// of another scene, whose results a run of `scene` would replace.
+fn refuse_finished_run_of_another_scene(
+    checkpoint: &std::path::Path,
+    scene: &Scene,
+) -> Result<(), SimError> {
+    /// The scene of a finished run's snapshot sums (the sums themselves are not read).
+    #[derive(Deserialize)]
+    struct FinishedScene {
+        scene: SceneFile,
+    }
+    let Some(sums) = checkpoint.parent().map(|d| d.join(SNAPSHOT_SUMS)) else {
+        return Ok(());
+    };
+    let Ok(text) = std::fs::read_to_string(&sums) else {
+        return Ok(());
+    };
+    let other = match serde_json::from_str::<FinishedScene>(&text) {
+        Ok(finished) if same_scene(&finished.scene, &scene.file) => return Ok(()),
+        Ok(finished) if finished.scene.name == scene.file.name => {
+            format!("of scene `{}` with other settings", finished.scene.name)
+        }
+        Ok(finished) => format!("of scene `{}`", finished.scene.name),
+        Err(_) => "of an unreadable scene".into(),
+    };
+    Err(SimError::Output {
+        path: sums.display().to_string(),
+        message: format!(
+            "is the finished run {other}: there is nothing of this scene to resume, and \
+             running would replace that run's results"
+        ),
+    })
+}
+
 fn same_scene(a: &SceneFile, b: &SceneFile) -> bool {
     let strip = |s: &SceneFile| {
         let mut s = s.clone();
@@ -227,11 +343,15 @@ pub fn run(
     opts: &RunOptions,
     progress: &mut dyn FnMut(&Progress, &Simulation),
 ) -> Result<RunOutcome, SimError> {
+    crate::input::scene_limits::check_driven(&scene.file)?;
     let started = Instant::now();
     let resume_from = opts
         .checkpoint
         .as_ref()
         .filter(|p| opts.resume && p.exists());
+    if let (true, None, Some(path)) = (opts.resume, resume_from, &opts.checkpoint) {
+        refuse_finished_run_of_another_scene(path, scene)?;
+    }
     let (mut sim, mut st) = match resume_from {
         Some(path) => {
             let Checkpoint { run: st, system } = checkpoint::load(path)?;
@@ -241,14 +361,38 @@ pub fn run(
                     message: "was written for a different scene; remove it or drop --resume".into(),
                 });
             }
-            if st.averaging.sums[0].len() != snapshot::field::FIELDS * scene.n_bins {
+            if st
+                .averaging
+                .sums
+                .iter()
+                .any(|s| s.len() != snapshot::field::FIELDS * scene.n_bins)
+            {
                 return Err(SimError::Checkpoint {
                     path: path.display().to_string(),
                     message: "holds snapshot sums of an older layout; remove it or drop --resume"
                         .into(),
                 });
             }
-            (Simulation::restore(scene, system)?, st)
+            let damaged = |what: String| SimError::Checkpoint {
+                path: path.display().to_string(),
+                message: format!("is damaged: {what}; remove it or drop --resume"),
+            };
+            if let Some(what) = shape_mismatch(scene, &st, &system) {
+                return Err(damaged(what));
+            }
+            let sim = Simulation::restore(scene, system)?;
+            let springs = if scene.file.forces.mu_p > 0.0 {
+                sim.list.len()
+            } else {
+                0
+            };
+            if sim.springs.len() != springs {
+                return Err(damaged(format!(
+                    "{} contact springs for {springs} listed pairs",
+                    sim.springs.len()
+                )));
+            }
+            (sim, st)
         }
         None => (
             Simulation::new(scene, initial_particles(scene)?)?,
@@ -382,6 +526,20 @@ pub fn run(
         observables: scene.file.observables,
         code_version: crate::CODE_VERSION,
     };
+    // Not in a Brownian scene: its random loads are not in the binned stress (their
+    // direct virial averages to zero, docs/physics.md section 11), so the binned balance
+    // measures the thermal noise, not the dynamics.
+    if let Some(residual) = summary
+        .momentum_residual
+        .filter(|r| scene.thermal.is_none() && !(*r <= MOMENTUM_RESIDUAL_MAX))
+    {
+        return Err(SimError::MomentumImbalance {
+            residual,
+            limit: MOMENTUM_RESIDUAL_MAX,
+            dt: summary.dt,
+            dt_limit: summary.dt_limit,
+        });
+    }
     Ok(RunOutcome {
         profile,
         summary,

@@ -210,6 +210,25 @@ fn bad_seed_lists_and_counts_are_refused() {
             with_top("replicas = 2").replace("[scene]", "[scene]\nseed = [1, 2]"),
             "`seed` lists 2 seeds and the grid sets `replicas`",
         ),
+        (
+            with_top("replicas = 9223372036854775807"),
+            "expands to 9.223372036854776e18 runs (1 case(s) x 1.0 [vary] combinations",
+        ),
+        (
+            with_top("replicas = 100000000"),
+            "expands to 1e8 runs (1 case(s) x 1.0 [vary] combinations x 100000000 replica(s)), \
+             more than 100000",
+        ),
+        (
+            // 20 lists of 10 values: 1e20 scenes, refused before any is built.
+            format!(
+                "{BASE}\n[vary]\n{}",
+                (0..20)
+                    .map(|k| format!("\"run.x{k}\" = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]\n"))
+                    .collect::<String>()
+            ),
+            "expands to 1e20 runs (1 case(s) x 1e20 [vary] combinations",
+        ),
     ] {
         let message = refusal(text);
         assert!(

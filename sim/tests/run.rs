@@ -143,6 +143,105 @@ fn a_checkpoint_of_another_scene_is_refused() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A checkpoint whose arrays disagree with each other or with the scene is refused with
+/// what is wrong, never an index out of bounds.
+#[test]
+fn a_damaged_checkpoint_is_refused_saying_what_is_wrong() {
+    static STOP: AtomicBool = AtomicBool::new(false);
+    let scene = tiny();
+    let dir = std::env::temp_dir().join(format!("suspflow-damaged-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let checkpoint = dir.join("checkpoint.json");
+    let opts = RunOptions {
+        checkpoint: Some(checkpoint.clone()),
+        resume: true,
+        interrupt: Some(&STOP),
+    };
+    assert!(matches!(
+        rows(&scene, &opts, Some((2, &STOP))),
+        Err(SimError::Interrupted { .. })
+    ));
+    STOP.store(false, Ordering::SeqCst);
+    let saved: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&checkpoint).unwrap()).unwrap();
+    type Damage = fn(&mut serde_json::Value);
+    let damages: [(Damage, &str); 6] = [
+        (
+            |c| {
+                drop(
+                    c["system"]["particles"]["vel"]
+                        .as_array_mut()
+                        .unwrap()
+                        .pop(),
+                )
+            },
+            "velocities for the scene's",
+        ),
+        (
+            |c| drop(c["system"]["list_reference"].as_array_mut().unwrap().pop()),
+            "neighbour-list reference positions for the scene's",
+        ),
+        (
+            |c| c["system"]["particles"]["id"][0] = c["system"]["particles"]["id"][1].clone(),
+            "particle identities are not 0..N each once",
+        ),
+        (
+            |c| c["system"]["particles"]["species"][0] = 7.into(),
+            "a species index beyond the scene's 2 radii",
+        ),
+        (
+            |c| drop(c["run"]["averaging"]["sums"].as_array_mut().unwrap().pop()),
+            "snapshot sums of another size",
+        ),
+        (
+            |c| c["system"]["springs"] = serde_json::json!([[0.0, 0.0, 0.0]]),
+            "1 contact springs for 0 listed pairs",
+        ),
+    ];
+    for (damage, expected) in damages {
+        let mut damaged = saved.clone();
+        damage(&mut damaged);
+        std::fs::write(&checkpoint, serde_json::to_vec(&damaged).unwrap()).unwrap();
+        match rows(&scene, &opts, None) {
+            Err(SimError::Checkpoint { message, .. }) => assert!(
+                message.contains("is damaged") && message.contains(expected),
+                "{message} should say {expected}"
+            ),
+            r => panic!("expected `{expected}`, got {:?}", r.map(|_| ())),
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `resume` in the folder of a finished run of another scene (no checkpoint) is refused
+/// instead of replacing that run's results; of the same scene it runs.
+#[test]
+fn resuming_over_the_finished_run_of_another_scene_is_refused() {
+    let scene = tiny();
+    let dir = std::env::temp_dir().join(format!("suspflow-finished-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let opts = RunOptions {
+        checkpoint: Some(dir.join("checkpoint.json")),
+        resume: true,
+        interrupt: None,
+    };
+    let outcome = run(&scene, &opts, &mut |_, _| {}).unwrap();
+    sim::output::result_files::write_results(&dir, &scene, &outcome).unwrap();
+    std::fs::remove_file(dir.join("checkpoint.json")).ok();
+    let mut other = scene.file.clone();
+    other.seed += 1;
+    let other = Scene::from_file(other, false).unwrap();
+    match run(&other, &opts, &mut |_, _| {}) {
+        Err(SimError::Output { message, .. }) => assert!(
+            message.contains("is the finished run of scene `tiny` with other settings"),
+            "{message}"
+        ),
+        r => panic!("expected a refusal, got {:?}", r.map(|_| ())),
+    }
+    assert!(run(&scene, &opts, &mut |_, _| {}).is_ok());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn steady_momentum_balance_holds() {
     let mut file = tiny().file;

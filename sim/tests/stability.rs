@@ -66,3 +66,34 @@ fn a_large_stokes_number_warns_and_strict_refuses() {
         other => panic!("expected a refusal, got {:?}", other.map(|s| s.stokes)),
     }
 }
+
+/// The explicit step at 10 times its automatic dt does not blow up on the tiny scene but
+/// its dynamics are wrong (momentum residual 0.62 against 0.003 at the automatic dt): the
+/// run fails saying so, and at the automatic dt it finishes.
+#[test]
+fn a_run_whose_momentum_balance_fails_is_a_failed_run() {
+    let path =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/scenes/good/tiny.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    let with = |dt_factor: f64| {
+        let text = text.replace(
+            "[run]",
+            &format!("[run]\nintegrator = \"explicit\"\ndt_factor = {dt_factor}"),
+        );
+        let scene = Scene::from_toml(&text, false).unwrap();
+        sim::run::run(&scene, &Default::default(), &mut |_, _| {})
+    };
+    match with(10.0) {
+        Err(SimError::MomentumImbalance {
+            residual, limit, ..
+        }) => {
+            assert!(residual > limit && limit == sim::run::MOMENTUM_RESIDUAL_MAX)
+        }
+        other => panic!("expected a momentum imbalance, got {:?}", other.map(|_| ())),
+    }
+    let residual = with(1.0).unwrap().summary.momentum_residual.unwrap();
+    assert!(
+        residual < 0.1 * sim::run::MOMENTUM_RESIDUAL_MAX,
+        "{residual}"
+    );
+}

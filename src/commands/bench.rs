@@ -18,27 +18,27 @@ mod brownian;
 #[derive(clap::Args)]
 pub struct Args {
     /// Particle numbers (comma separated).
-    #[arg(long, value_delimiter = ',', default_values_t = [1000usize, 4000, 16000])]
+    #[arg(long, value_delimiter = ',', default_values_t = [1000usize, 4000, 16000], allow_negative_numbers = true)]
     n: Vec<usize>,
     /// Thread counts (comma separated; 0 = all cores).
-    #[arg(long, value_delimiter = ',', default_values_t = [1usize, 0])]
+    #[arg(long, value_delimiter = ',', default_values_t = [1usize, 0], allow_negative_numbers = true, value_parser = crate::threads::count)]
     threads: Vec<usize>,
     /// Integrators (comma separated): implicit, explicit.
     #[arg(long, value_delimiter = ',', default_values_t = [Integrator::Implicit, Integrator::Explicit], value_parser = parse_integrator)]
     integrator: Vec<Integrator>,
     /// Timed window, in steps of the peer's dt = 5e-4 (at least 1); the implicit scheme
     /// covers the same simulated time in its own, larger steps.
-    #[arg(long, default_value_t = 10000, value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, default_value_t = 10000, allow_negative_numbers = true, value_parser = clap::value_parser!(u64).range(1..))]
     steps: u64,
     /// Untimed warm-up window, in steps of 5e-4.
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, default_value_t = 2000, allow_negative_numbers = true)]
     warmup: u64,
     /// The peer's measured particle-steps per second at dt = 5e-4 (its `run.sh` prints
     /// it); when given, each record also gives LAMMPS' time per unit strain over ours.
-    #[arg(long, value_parser = parse_positive)]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_positive)]
     lammps_pps: Option<f64>,
     /// Verlet-list skin (units a, finite and >= 0); the scene default when absent.
-    #[arg(long, value_parser = parse_skin)]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_skin)]
     skin: Option<f64>,
     /// Switch lubrication off (contact + drag only).
     #[arg(long)]

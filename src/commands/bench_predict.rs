@@ -12,6 +12,10 @@ use surrogate::Mapping;
 /// The end-to-end target per profile, in milliseconds.
 const TARGET_MS: f64 = 10.0;
 
+/// Most bins of the synthetic profile: a profile has tens of bins, and the table of 1e8
+/// (about 20 GB of features and predictions) aborted on its allocation.
+const ROWS_MAX: u64 = 1_000_000;
+
 #[derive(clap::Args)]
 pub struct Args {
     /// Directory of the trained models (`suspflow train --out`).
@@ -25,10 +29,11 @@ pub struct Args {
     #[arg(long)]
     input: Option<PathBuf>,
     /// Bins of the synthetic profile.
-    #[arg(long, default_value_t = 50)]
-    rows: usize,
+    #[arg(long, default_value_t = 50, allow_negative_numbers = true,
+          value_parser = clap::value_parser!(u64).range(1..=ROWS_MAX))]
+    rows: u64,
     /// Timed runs per mapping.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
     repeat: usize,
     /// Print a JSON array of records instead of text.
     #[arg(long)]
@@ -76,8 +81,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// Writes a `rows`-bin profile holding every mapping's features to a temporary CSV file:
 /// `u_inf = 0.1 sin(2 pi y / L)` with bins of width 2 and plausible local values that follow
 /// the local shear, `|sin|`.
-fn write_synthetic_profile(rows: usize) -> anyhow::Result<PathBuf> {
-    anyhow::ensure!(rows > 0, "--rows must be at least 1");
+fn write_synthetic_profile(rows: u64) -> anyhow::Result<PathBuf> {
     let l_y = 2.0 * rows as f64;
     let mut csv = String::from("scene_id,profile,y,J,phi_loc,Theta,Delta_v,phi\n");
     for bin in 0..rows {

@@ -52,10 +52,10 @@ pub struct Args {
     #[arg(long, value_name = "I/N", value_parser = parse_shard)]
     shard: Option<(usize, usize)>,
     /// Runs at the same time (0 = one per core).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::threads::count)]
     jobs: usize,
     /// Threads per run (0 = cores / jobs).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::threads::count)]
     threads: usize,
     /// Work directory for checkpoints and per-run results (default `<out>.work`).
     #[arg(long)]
@@ -153,6 +153,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let _lock = FileLock::acquire(
         &outputs.work.join("generate.lock"),
         &outputs.dataset.display().to_string(),
+        "generate",
     )?;
     let mut todo = Vec::new();
     for gs in &scenes {

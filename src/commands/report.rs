@@ -18,7 +18,7 @@ use std::time::Instant;
 #[derive(clap::Args)]
 pub struct Args {
     /// Report name: writes `<out>/<name>/report.md` and its figures.
-    #[arg(long, default_value = "quick")]
+    #[arg(long, default_value = "quick", value_parser = report_name)]
     name: String,
     /// Parent directory of the reports.
     #[arg(long, default_value = "reports")]
@@ -30,10 +30,10 @@ pub struct Args {
     #[arg(long, default_value = "grids/validate.toml")]
     scenes: PathBuf,
     /// Snapshots of the longest partial average (multiple of 4; default 256 quick, 512 full).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     partial: Option<usize>,
     /// Snapshots of the reference average (multiple of 10; default 500 quick, 1000 full).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     reference: Option<usize>,
     /// Training set of section 2: the shipped models' own training table, so that their
     /// tuned hyper-parameters apply.
@@ -52,6 +52,12 @@ pub struct Args {
 
 /// Box edge (x and z, units a) of the validation scenes in quick mode.
 const QUICK_BOX: f64 = 8.0;
+
+/// A report name names a folder inside `--out`: the scene-name rule (no path separator, no
+/// leading '.') keeps it there.
+fn report_name(name: &str) -> Result<String, String> {
+    sim::input::scene_name::check(name).map(|()| name.to_string())
+}
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let (partial, reference) = (

@@ -1,6 +1,7 @@
 //! `suspflow simulate SCENE.toml --out DIR`: one scene to its steady-state profile.
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
+use sim::input::run_cost::RunCost;
 use sim::input::scene::Scene;
 use sim::run::{Phase, RunOptions};
 use sim::SimError;
@@ -26,14 +27,14 @@ pub struct Args {
     #[arg(long)]
     strict: bool,
     /// Threads (0 = all cores).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::threads::count)]
     threads: usize,
     /// Validate the scene and print its derived quantities (N, bins, Stokes number, time
     /// step and what limits it) without running.
     #[arg(long)]
     check: bool,
     /// Write an extended-XYZ frame every N snapshots to DIR/frames.xyz (appended to on --resume).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u64).range(1..))]
     snapshot: Option<u64>,
 }
 
@@ -69,6 +70,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let _lock = crate::file_lock::FileLock::acquire(
+        &out.join("simulate.lock"),
+        &out.display().to_string(),
+        "simulate",
+    )?;
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
         .context("installing the Ctrl-C handler")?;
     let opts = RunOptions {
@@ -135,6 +141,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         other => other?,
     };
     sim::output::result_files::write_results(out, &scene, &outcome)?;
+    // The run is finished: its checkpoint would make a re-run call it unfinished.
+    if checkpoint.exists() {
+        std::fs::remove_file(&checkpoint)
+            .with_context(|| format!("removing the finished run's {}", checkpoint.display()))?;
+    }
     let s = &outcome.summary;
     println!("profile: {}", out.join("profile.csv").display());
     println!("summary: {}", out.join("summary.json").display());
@@ -174,9 +185,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 /// Derived quantities of a valid scene.
 fn print_check(scene: &Scene) -> anyhow::Result<()> {
+    sim::input::scene_limits::check_driven(&scene.file)?;
     let t = sim::integrate::timestep::TimeStep::for_scene(scene);
     let r = &scene.file.run;
-    let steps_per_strain = t.steps_per_strain(scene);
+    let cost = RunCost::new(scene, &t);
     println!("scene `{}` is valid", scene.file.name);
     println!(
         "particles: {} (species counts {:?}), phi = {:.4}",
@@ -211,11 +223,16 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
     );
     println!(
         "{:.0} steps per unit of the run's clock (strain, or tau_B without flow); at most {:.3e} particle-steps to the budget {} plus {:.3e} for {} snapshots",
-        steps_per_strain,
-        steps_per_strain * r.max_strain * scene.n_particles() as f64,
+        cost.steps_per_strain,
+        cost.equilibration_particle_steps,
         r.max_strain,
-        steps_per_strain * r.sample_strain * r.snapshots as f64 * scene.n_particles() as f64,
+        cost.averaging_particle_steps,
         r.snapshots
+    );
+    println!(
+        "run time: at most about {} here (at {:.1e} particle-steps/s)",
+        RunCost::describe(cost.seconds()),
+        sim::input::run_cost::PARTICLE_STEPS_PER_S
     );
     Ok(())
 }

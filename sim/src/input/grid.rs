@@ -26,6 +26,7 @@
 use crate::error::SimError;
 use crate::input::replica_seeds::replica_seeds;
 use crate::input::scene::{Scene, SceneFile};
+use crate::input::scene_limits::show;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -104,6 +105,37 @@ fn set_field(table: &mut Table, path: &str, value: Value) -> Result<(), SimError
     Ok(())
 }
 
+/// Most runs a grid may expand to: each is validated before the first starts, and each
+/// gets a work folder; 1e5 runs of the smallest scenes are already weeks here.
+pub const GRID_RUNS_MAX: usize = 100_000;
+
+/// Scenes of `cases` cases times the product of the `vary` lists, refused (before any is
+/// built) when they, times the grid's `replicas`, exceed [`GRID_RUNS_MAX`].
+fn grid_size(
+    cases: usize,
+    lists: &[(&str, &[Value])],
+    replicas: Option<i64>,
+) -> Result<usize, SimError> {
+    let replicas = replicas.unwrap_or(1).max(1);
+    let scenes = lists
+        .iter()
+        .try_fold(cases, |n, (_, values)| n.checked_mul(values.len()));
+    let runs = scenes.and_then(|n| n.checked_mul(usize::try_from(replicas).ok()?));
+    match (scenes, runs) {
+        (Some(scenes), Some(runs)) if runs <= GRID_RUNS_MAX => Ok(scenes),
+        _ => {
+            let product: f64 = lists.iter().map(|(_, v)| v.len() as f64).product();
+            let runs = cases as f64 * product * replicas as f64;
+            Err(grid_error(format!(
+                "expands to {} runs ({cases} case(s) x {} [vary] combinations x {replicas} \
+                 replica(s)), more than {GRID_RUNS_MAX}: split it into smaller grids",
+                show(runs),
+                show(product)
+            )))
+        }
+    }
+}
+
 impl Grid {
     /// Reads and expands a grid file; every scene is validated as a scene file would be.
     pub fn from_path(path: &Path, strict: bool) -> Result<Grid, SimError> {
@@ -175,7 +207,7 @@ impl Grid {
             file.cases.iter().collect()
         };
         let per_case: usize = lists.iter().map(|(_, v)| v.len()).product();
-        let total = cases.len() * per_case;
+        let total = grid_size(cases.len(), &lists, file.replicas)?;
         let width = total.saturating_sub(1).to_string().len().max(3);
         let mut runs = Vec::with_capacity(total);
         for (c, case) in cases.iter().enumerate() {

@@ -7,6 +7,8 @@ pub mod memory_estimate;
 pub mod packing;
 pub mod profile_syntax;
 pub mod replica_seeds;
+pub mod run_cost;
 pub mod scene;
+pub mod scene_limits;
 pub mod scene_name;
 pub mod thermal_scales;

@@ -3,9 +3,12 @@
 use crate::error::SimError;
 use crate::input::flow_profile::FlowProfile;
 use crate::input::memory_estimate;
+use crate::input::run_cost::RunCost;
+use crate::input::scene_limits::{self, show, PHI_MAX};
 use crate::input::scene_name;
 use crate::input::thermal_scales::ThermalScales;
 use crate::integrate::integrator::Integrator;
+use crate::integrate::timestep::TimeStep;
 use crate::sampling::conventions::Conventions;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -270,7 +273,7 @@ fn positive(field: &str, v: f64) -> Result<(), SimError> {
     } else {
         Err(SimError::field(
             field,
-            format!("must be a positive finite number, got {v}"),
+            format!("must be a positive finite number, got {}", show(v)),
         ))
     }
 }
@@ -377,12 +380,13 @@ impl Scene {
         positive("box.l_y", b.l_y)?;
         positive("box.l_z", b.l_z)?;
         let p = &file.particles;
-        if !(p.phi > 0.0 && p.phi < 0.74) {
+        if !(p.phi > 0.0 && p.phi <= PHI_MAX) {
             return Err(SimError::field(
                 "particles.phi",
                 format!(
-                    "must lie in (0, 0.74) (0.74 is the densest packing of spheres), got {}",
-                    p.phi
+                    "must lie in (0, {PHI_MAX}]: the random packing jams below {PHI_MAX} \
+                     (random close packing 0.64-0.66; only a crystal is denser), got {}",
+                    show(p.phi)
                 ),
             ));
         }
@@ -474,6 +478,7 @@ impl Scene {
                 ),
             ));
         }
+        scene_limits::check(&file)?;
         let bins = b.l_y / r.bin_width;
         let n_bins = bins.round() as usize;
         if n_bins < 3 || (bins - bins.round()).abs() > 1e-6 * bins {
@@ -486,6 +491,7 @@ impl Scene {
             ));
         }
         let profile = streaming_flow(&file.fluid, b.l_y)?;
+        scene_limits::check_bin_resolution(&profile, n_bins)?;
         let gdot_max = profile.max_abs_shear_rate();
 
         let a_max = p.radii.iter().cloned().fold(0.0, f64::max);
@@ -612,7 +618,7 @@ impl Scene {
         if let Some(w) = thermal.as_ref().and_then(ThermalScales::warning) {
             warnings.push(w);
         }
-        Ok(Scene {
+        let mut scene = Scene {
             thermal,
             box_len: [b.l_x, b.l_y, b.l_z],
             counts,
@@ -625,7 +631,10 @@ impl Scene {
             warnings,
             profile,
             file,
-        })
+        };
+        let cost = RunCost::new(&scene, &TimeStep::for_scene(&scene));
+        scene.warnings.extend(cost.check()?);
+        Ok(scene)
     }
 
     /// Total number of particles.

@@ -1,0 +1,117 @@
+//! What a run will cost before it starts: its time steps, particle-steps and wall time
+//! on this machine, from the scene's automatic time step; runs that cannot finish are
+//! refused and long ones announced.
+use crate::error::SimError;
+use crate::input::scene::Scene;
+use crate::input::scene_limits::show;
+use crate::integrate::timestep::TimeStep;
+
+/// Particle-steps per second of a run here (2 cores): the validation scenes of the full
+/// report ran at 9.0-9.3e5 (README, Report), rounded up so that estimates err short.
+pub const PARTICLE_STEPS_PER_S: f64 = 1e6;
+
+/// Estimated wall time above which a scene is announced with a warning (one day).
+pub const WARN_SECONDS: f64 = 86_400.0;
+
+/// Estimated wall time above which a scene is refused (one year): no run of that length
+/// finishes, and its step counters approach the range where a strain increment per step
+/// is lost in rounding.
+pub const REFUSE_SECONDS: f64 = 365.0 * 86_400.0;
+
+/// The cost of a run to its strain budget plus its averaging.
+#[derive(Clone, Copy, Debug)]
+pub struct RunCost {
+    /// Time steps per unit strain (strain = gdot_max x time).
+    pub steps_per_strain: f64,
+    /// Most particle-steps of the equilibration (to `run.max_strain`).
+    pub equilibration_particle_steps: f64,
+    /// Particle-steps of the averaging (`run.snapshots` x `run.sample_strain`).
+    pub averaging_particle_steps: f64,
+}
+
+impl RunCost {
+    /// The cost of `scene` at the step `timestep`.
+    pub fn new(scene: &Scene, timestep: &TimeStep) -> RunCost {
+        let r = &scene.file.run;
+        let steps_per_strain = timestep.steps_per_strain(scene);
+        let n = scene.n_particles() as f64;
+        RunCost {
+            steps_per_strain,
+            equilibration_particle_steps: steps_per_strain * r.max_strain * n,
+            averaging_particle_steps: steps_per_strain * r.sample_strain * r.snapshots as f64 * n,
+        }
+    }
+
+    /// Estimated wall time at most (s) here, at [`PARTICLE_STEPS_PER_S`].
+    pub fn seconds(&self) -> f64 {
+        (self.equilibration_particle_steps + self.averaging_particle_steps) / PARTICLE_STEPS_PER_S
+    }
+
+    /// A duration for people: seconds, hours, days or years.
+    pub fn describe(seconds: f64) -> String {
+        if seconds < 3600.0 {
+            format!("{seconds:.0} s")
+        } else if seconds < 86_400.0 {
+            format!("{:.1} h", seconds / 3600.0)
+        } else if seconds < 365.0 * 86_400.0 {
+            format!("{:.1} days", seconds / 86_400.0)
+        } else {
+            format!("{} years", show((seconds / (365.0 * 86_400.0)).round()))
+        }
+    }
+
+    /// Refuses a run longer than [`REFUSE_SECONDS`] (or of no finite length) and returns
+    /// a warning for one longer than [`WARN_SECONDS`].
+    pub fn check(&self) -> Result<Option<String>, SimError> {
+        let s = self.seconds();
+        let what = format!(
+            "{} steps per unit strain, at most {} particle-steps, about {} here at {} \
+             particle-steps/s",
+            show(self.steps_per_strain.round()),
+            show((self.equilibration_particle_steps + self.averaging_particle_steps).round()),
+            Self::describe(s),
+            show(PARTICLE_STEPS_PER_S)
+        );
+        if !(s <= REFUSE_SECONDS) {
+            return Err(SimError::field(
+                "run",
+                format!(
+                    "the run cannot finish: {what}; the time step (forces.k_n, forces.xi_min, \
+                     run.dt_factor, run.dt, the radii), the shear rate of the flow, \
+                     run.max_strain or run.snapshots are extreme"
+                ),
+            ));
+        }
+        Ok((s > WARN_SECONDS).then(|| format!("long run: {what}")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lasting(seconds: f64) -> RunCost {
+        RunCost {
+            steps_per_strain: 1e3,
+            equilibration_particle_steps: seconds * PARTICLE_STEPS_PER_S,
+            averaging_particle_steps: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_day_warns_a_year_is_refused_and_no_length_is_refused() {
+        assert_eq!(lasting(3600.0).check().unwrap(), None);
+        let warning = lasting(2.0 * WARN_SECONDS).check().unwrap().unwrap();
+        assert!(warning.contains("about 2.0 days here"), "{warning}");
+        let refusal = lasting(2.0 * REFUSE_SECONDS)
+            .check()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            refusal.contains("the run cannot finish") && refusal.contains("about 2.0 years here"),
+            "{refusal}"
+        );
+        assert!(lasting(f64::NAN).check().is_err());
+        assert!(lasting(f64::INFINITY).check().is_err());
+    }
+}

@@ -2,6 +2,7 @@
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::input::scene::Scene;
+use sim::output::snapshot_format::SnapshotFormat;
 use sim::run::{Phase, RunOptions};
 use sim::SimError;
 use std::path::PathBuf;
@@ -32,9 +33,19 @@ pub struct Args {
     /// step and what limits it) without running.
     #[arg(long)]
     check: bool,
-    /// Write an extended-XYZ frame every N snapshots to DIR/frames.xyz (appended to on --resume).
+    /// Write a particle frame every N snapshots to DIR/frames.xyz or DIR/frames.lammpstrj
+    /// (appended to on --resume).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     snapshot: Option<u64>,
+    /// Format of the --snapshot frames: xyz (extended XYZ: ASE, OVITO) or lammps (LAMMPS
+    /// text dump: OVITO, ASE, MDAnalysis).
+    #[arg(
+        long,
+        value_name = "FORMAT",
+        default_value = "xyz",
+        requires = "snapshot"
+    )]
+    snapshot_format: SnapshotFormat,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -78,7 +89,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let mut frames = match args.snapshot {
         Some(every) => {
-            let path = out.join("frames.xyz");
+            let path = out.join(args.snapshot_format.file_name());
             // A resumed run continues the frames of the run it resumes.
             let file = std::fs::OpenOptions::new()
                 .create(true)
@@ -116,7 +127,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             }
             if let Some((every, file)) = frames.as_mut() {
                 if p.samples.is_multiple_of(*every) && frame_error.is_none() {
-                    frame_error = sim::output::result_files::append_xyz_frame(file, sim).err();
+                    frame_error = args.snapshot_format.append_frame(file, sim).err();
                 }
             }
         })

@@ -1,6 +1,6 @@
 //! `suspflow solve SCENE.toml --models DIR --out DIR`: the steady profile of a scene from
 //! its forcing alone (u_inf(y), phi, box, particle sizes), by the momentum balance closed
-//! with the learned `dv` mapping or with the local rheology (`surrogate::profile_solver`).
+//! with the learned `dv` mapping or with the local rheology (the `solver` crate).
 //! Writes `DIR/profile.csv` (the dataset's columns that the solve determines; no standard
 //! errors) and `DIR/summary.json`; `--compare FILE.csv` puts a simulated profile of the same
 //! scene beside the solutions of both closures.
@@ -11,13 +11,10 @@ use ndarray::Array2;
 use serde::Serialize;
 use sim::input::scene::Scene;
 use sim::output::dataset_columns as col;
-use std::f64::consts::PI;
+use solver::{fit_local_rheology, LearnedClosure, ProfileProblem, ProfileSolution, SolverError};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use surrogate::{
-    relative_l2_error, Dataset, LearnedClosure, LocalRheology, Predictor, ProfileProblem,
-    ProfileSolution,
-};
+use surrogate::{relative_l2_error, Dataset, Predictor};
 
 /// Starting pressure of the Newton iterations (units eta/time; the training scenes have
 /// 0.03-0.2).
@@ -72,13 +69,8 @@ struct Summary<'a> {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let scene = Scene::from_path(&args.scene, false)?;
-    if scene.shear_rate().is_some() {
-        anyhow::bail!(
-            "{}: homogeneous shear (fluid.shear_rate) has no forcing profile to solve for; \
-             solve takes scenes with fluid.profile",
-            args.scene.display()
-        );
-    }
+    let problem = ProfileProblem::from_scene(&scene)
+        .with_context(|| format!("{}: nothing to solve", args.scene.display()))?;
     let profile_csv = args.out.join("profile.csv");
     output_guard::out_dir(&args.out)?;
     output_guard::refuse_unless_force(
@@ -87,7 +79,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "an earlier solution",
         "choose another --out",
     )?;
-    let problem = problem(&scene);
     let predictor = Predictor::load(&args.models, "dv")
         .with_context(|| format!("loading model `dv` from {}", args.models.display()))?;
     let train = args
@@ -95,12 +86,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(&predictor.meta().training_data.source));
     let learned = LearnedClosure::new(predictor)?;
-    let law = local_rheology(&train)?;
+    let train_data =
+        Dataset::read_csv(&train).context("reading the training data for the local rheology")?;
+    let law = fit_local_rheology(&train_data)?;
     let started = Instant::now();
     let solution = match args.closure {
         ClosureKind::Learned => problem.solve(&learned, START_PRESSURE),
         ClosureKind::Local => problem.solve(&law, START_PRESSURE),
     }
+    .map_err(|e| with_hint(e, args.closure))
     .with_context(|| {
         format!(
             "solving {} with the {:?} closure",
@@ -115,7 +109,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let summary = Summary {
         scene: &scene.file.name,
         closure: args.closure,
-        bins: problem.u_inf.len(),
+        bins: problem.n_bins(),
         iterations: solution.iterations,
         residual: solution.residual,
         pressure: solution.pressure,
@@ -155,41 +149,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The scene's forcing at its bin centres, with the drag coefficient of its particle mix.
-fn problem(scene: &Scene) -> ProfileProblem {
-    let f = &scene.file;
-    let width = f.run.bin_width;
-    let u_inf = (0..scene.n_bins)
-        .map(|k| scene.profile.u((k as f64 + 0.5) * width))
-        .collect();
-    let (mut radius_sum, mut volume_sum) = (0.0, 0.0);
-    for (&a, &count) in f.particles.radii.iter().zip(&scene.counts) {
-        radius_sum += count as f64 * a;
-        volume_sum += count as f64 * 4.0 / 3.0 * PI * a.powi(3);
+/// A learned solve that stalls is an error that points to the other closure.
+fn with_hint(e: SolverError, closure: ClosureKind) -> anyhow::Error {
+    match e {
+        SolverError::NotConverged { .. } if closure == ClosureKind::Learned => {
+            anyhow::anyhow!("{e} (try --closure local)")
+        }
+        e => e.into(),
     }
-    ProfileProblem {
-        u_inf,
-        bin_width: width,
-        phi: f.particles.phi,
-        eta: f.fluid.eta,
-        drag_coefficient: 6.0 * PI * f.fluid.eta * radius_sum / volume_sum,
-    }
-}
-
-/// mu = A J^b and eq 6.7 fitted on every row of `path` with J, phi_loc and mu.
-fn local_rheology(path: &Path) -> anyhow::Result<LocalRheology> {
-    let data =
-        Dataset::read_csv(path).context("reading the training data for the local rheology")?;
-    let rows = data.complete_rows(&[col::J, col::PHI_LOC, col::MU])?;
-    let column = |name: &str| -> anyhow::Result<Vec<f64>> {
-        let c = data.column(name)?;
-        Ok(rows.iter().map(|&r| c[r]).collect())
-    };
-    Ok(LocalRheology::fit(
-        &column(col::J)?,
-        &column(col::PHI_LOC)?,
-        &column(col::MU)?,
-    )?)
 }
 
 /// Writes the solution with the dataset's column names; standard errors are left out.
@@ -219,8 +186,7 @@ fn write_profile(
         col::F_X,
     ])?;
     let f = &scene.file;
-    for k in 0..problem.u_inf.len() {
-        let y = (k as f64 + 0.5) * problem.bin_width;
+    for (k, y) in problem.bin_centres().into_iter().enumerate() {
         let numbers = [
             y,
             problem.u_inf[k],
@@ -271,9 +237,7 @@ fn compare(
             scene.n_bins
         );
     }
-    let y: Vec<f64> = (0..scene.n_bins)
-        .map(|k| (k as f64 + 0.5) * problem.bin_width)
-        .collect();
+    let y = problem.bin_centres();
     println!("against {} (relative L2 error, unscaled):", path.display());
     println!(
         "  {:<8} {:>8} {:>8} {:>8}",

@@ -85,18 +85,6 @@ pub enum SurrogateError {
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
 
-    /// The profile solver stopped before its residual reached the tolerance.
-    #[error(
-        "the profile solve did not converge: {reason}; largest scaled residual {residual:.3e} \
-         after {iterations} Newton iterations (tolerance {tolerance:.0e})",
-        tolerance = crate::profile_solver::TOLERANCE
-    )]
-    NotConverged {
-        reason: String,
-        iterations: usize,
-        residual: f64,
-    },
-
     /// The XGBoost library reported an error; the message is the library's own.
     #[error("XGBoost: {0}")]
     Xgboost(String),

@@ -2,9 +2,10 @@
 //! and mu, against the simulated profiles.
 use std::path::PathBuf;
 
-use surrogate::{
-    Closure, Dataset, LearnedClosure, LocalRheology, Predictor, ProfileProblem, ProfileSolution,
+use solver::{
+    fit_local_rheology, Closure, LearnedClosure, ProfileProblem, ProfileSolution, TOLERANCE,
 };
+use surrogate::{Dataset, LocalRheology, Predictor};
 
 fn repo(path: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -14,9 +15,7 @@ fn repo(path: &str) -> PathBuf {
 
 /// The local rheology fitted on the shipped training data.
 fn local_law() -> LocalRheology {
-    let data = Dataset::read_csv(repo("datasets/train.csv")).unwrap();
-    let column = |name: &str| -> Vec<f64> { data.column(name).unwrap().to_vec() };
-    LocalRheology::fit(&column("J"), &column("phi_loc"), &column("mu")).unwrap()
+    fit_local_rheology(&Dataset::read_csv(repo("datasets/train.csv")).unwrap()).unwrap()
 }
 
 /// `6 pi eta <a> / <V_p>` for equal numbers of radii 1 and 1.4, eta = 1.
@@ -57,7 +56,7 @@ fn check(s: &ProfileSolution, problem: &ProfileProblem) {
     assert!((s.phi_loc.iter().sum::<f64>() / n - problem.phi).abs() < 1e-8);
     let drag_scale = s.f_x.iter().map(|f| f.abs()).sum::<f64>();
     assert!(s.f_x.iter().sum::<f64>().abs() < 1e-6 * drag_scale);
-    assert!(s.residual <= surrogate::profile_solver::TOLERANCE);
+    assert!(s.residual <= TOLERANCE);
 }
 
 /// Solves both validation scenes with `closure` and checks each solution (see [`check`]) and

@@ -1,6 +1,4 @@
-//! Steady profiles from the forcing alone: the momentum balance of the binned suspension
-//! closed by a local-rheology law (the backbone, [`LocalRheology`]) or by a learned mapping
-//! (J, Delta_v, phi) -> (phi_loc, mu), solved by damped Newton iterations.
+//! Damped Newton iterations on the binned momentum balance.
 //!
 //! Unknowns: the bin velocities `u_k` (units a/time) and the uniform pressure `P` (units
 //! eta/time; solved as `ln P` so it stays positive). Equations, on `n` periodic bins of width
@@ -23,108 +21,21 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::error::{Result, SurrogateError};
-use crate::local_rheology::LocalRheology;
-use crate::mapping::Mapping;
-use crate::predictor::Predictor;
+use crate::closure::Closure;
+use crate::error::{Result, SolverError, Stall};
+use crate::problem::ProfileProblem;
+use crate::solution::ProfileSolution;
 
 /// Regulariser of Delta_v's denominator (eq 6.2).
 const DELTA_V_EPSILON: f64 = 1e-5;
 /// Shear-rate floor as a fraction of the forcing's largest shear rate.
 const SHEAR_FLOOR: f64 = 1e-3;
-/// Relative half-width of the box over which a learned closure is averaged, for J and
-/// Delta_v.
-pub const SMOOTHING: f64 = 0.1;
 /// Newton iterations before giving up.
 const MAX_ITERATIONS: usize = 60;
 /// Converged when every scaled residual is below this.
 pub const TOLERANCE: f64 = 1e-9;
 /// Relative finite-difference step of the Jacobian.
 const FD_STEP: f64 = 1e-7;
-
-/// What a closure gives at one local state.
-pub trait Closure {
-    /// `(phi_loc, mu)` at local viscous number `j`, velocity-lag descriptor `delta_v`
-    /// (eq 6.2) and global volume fraction `phi`.
-    fn evaluate(&self, j: f64, delta_v: f64, phi: f64) -> Result<(f64, f64)>;
-}
-
-impl Closure for LocalRheology {
-    fn evaluate(&self, j: f64, _delta_v: f64, _phi: f64) -> Result<(f64, f64)> {
-        Ok((self.phi_loc(j), self.mu(j)))
-    }
-}
-
-/// A trained `dv` mapping, (J, Delta_v, phi) -> (phi_loc, mu), averaged over a box of
-/// relative half-width [`SMOOTHING`] in J and Delta_v.
-pub struct LearnedClosure {
-    predictor: Predictor,
-}
-
-impl LearnedClosure {
-    /// Wraps a predictor of the `dv` mapping.
-    pub fn new(predictor: Predictor) -> Result<Self> {
-        let meta = predictor.meta();
-        let dv = Mapping::by_name("dv")?;
-        if meta.features != dv.features || meta.outputs != dv.outputs {
-            return Err(SurrogateError::InvalidArgument(format!(
-                "the profile solver closes the balance with mapping (J, Delta_v, phi) -> \
-                 (phi_loc, mu); model `{}` maps ({}) -> ({})",
-                meta.mapping,
-                meta.features.join(", "),
-                meta.outputs.join(", ")
-            )));
-        }
-        Ok(LearnedClosure { predictor })
-    }
-}
-
-impl Closure for LearnedClosure {
-    fn evaluate(&self, j: f64, delta_v: f64, phi: f64) -> Result<(f64, f64)> {
-        let x = [j, delta_v, phi];
-        let out = self
-            .predictor
-            .expected_outputs(&x, &[SMOOTHING * j, SMOOTHING * delta_v, 0.0])?;
-        Ok((out[0], out[1]))
-    }
-}
-
-/// A periodic forcing to solve for.
-#[derive(Debug, Clone)]
-pub struct ProfileProblem {
-    /// Streaming velocity at the bin centres (a/time).
-    pub u_inf: Vec<f64>,
-    /// Bin width (a).
-    pub bin_width: f64,
-    /// Global volume fraction.
-    pub phi: f64,
-    /// Fluid viscosity.
-    pub eta: f64,
-    /// `c = 6 pi eta <a> / <V_p>`: drag density per unit volume fraction and velocity lag.
-    pub drag_coefficient: f64,
-}
-
-/// A solved profile, one entry per bin, and how the solve went.
-#[derive(Debug, Clone, Default)]
-pub struct ProfileSolution {
-    pub u: Vec<f64>,
-    /// Centred difference of `u` (1/time).
-    pub gdot: Vec<f64>,
-    /// Shear stress at the bin centre, `-sign(gdot) mu P` (positive in compression).
-    pub sigma_xy: Vec<f64>,
-    /// Uniform pressure.
-    pub pressure: f64,
-    pub phi_loc: Vec<f64>,
-    pub j: Vec<f64>,
-    pub mu: Vec<f64>,
-    pub delta_v: Vec<f64>,
-    /// Drag density `c phi_loc (u_inf - u)`.
-    pub f_x: Vec<f64>,
-    /// Newton iterations taken.
-    pub iterations: usize,
-    /// Largest scaled residual at the end.
-    pub residual: f64,
-}
 
 /// One face's shear stress and the closure's local state there.
 struct FaceState {
@@ -142,13 +53,9 @@ struct BinState {
 }
 
 impl ProfileProblem {
-    fn n(&self) -> usize {
-        self.u_inf.len()
-    }
-
     fn floor(&self) -> f64 {
         let w = self.bin_width;
-        let n = self.n();
+        let n = self.n_bins();
         let max_shear = (0..n)
             .map(|k| (self.u_inf[(k + 1) % n] - self.u_inf[k]).abs() / w)
             .fold(0.0, f64::max);
@@ -210,7 +117,7 @@ impl ProfileProblem {
         floor: f64,
         with_jacobian: bool,
     ) -> Result<(DVector<f64>, Option<DMatrix<f64>>)> {
-        let n = self.n();
+        let n = self.n_bins();
         let (w, ln_p) = (self.bin_width, x[n]);
         let scale = self.drag_scale();
         let face_args = |x: &DVector<f64>, k: usize| {
@@ -288,14 +195,14 @@ impl ProfileProblem {
     /// Solves the balance with `closure`, starting from `u = u_inf` and `P = p_start`.
     /// A solve that does not reach [`TOLERANCE`] is an error saying how far it got.
     pub fn solve(&self, closure: &dyn Closure, p_start: f64) -> Result<ProfileSolution> {
-        let n = self.n();
+        let n = self.n_bins();
         if n < 3
             || self.bin_width.is_nan()
             || self.bin_width <= 0.0
             || p_start.is_nan()
             || p_start <= 0.0
         {
-            return Err(SurrogateError::InvalidArgument(format!(
+            return Err(SolverError::InvalidArgument(format!(
                 "the profile solver needs at least 3 bins of positive width and a positive \
                  starting pressure ({n} bins of width {}, P {p_start})",
                 self.bin_width
@@ -303,7 +210,7 @@ impl ProfileProblem {
         }
         let floor = self.floor();
         if floor <= 0.0 {
-            return Err(SurrogateError::InvalidArgument(
+            return Err(SolverError::InvalidArgument(
                 "the forcing u_inf has no shear: nothing drives a profile".to_owned(),
             ));
         }
@@ -313,26 +220,21 @@ impl ProfileProblem {
         let (mut r, _) = self.linearise(closure, &x, floor, false)?;
         while norm(&r) > TOLERANCE {
             if iterations == MAX_ITERATIONS {
-                return Err(SurrogateError::NotConverged {
-                    reason: format!(
-                        "{MAX_ITERATIONS} iterations were not enough (a closure of boosted \
-                         trees is piecewise constant, smoothed only over +-10 % in J and \
-                         Delta_v: try --closure local)"
-                    ),
+                return Err(SolverError::NotConverged {
+                    stall: Stall::IterationLimit(MAX_ITERATIONS),
                     iterations,
                     residual: norm(&r),
+                    tolerance: TOLERANCE,
                 });
             }
             iterations += 1;
             let (_, jac) = self.linearise(closure, &x, floor, true)?;
             let step = jac.and_then(|j| j.lu().solve(&(-&r))).ok_or_else(|| {
-                SurrogateError::NotConverged {
-                    reason: "the Jacobian is singular: the closure does not change with the \
-                             local state here, as trees do beyond their training range \
-                             (try --closure local)"
-                        .to_owned(),
+                SolverError::NotConverged {
+                    stall: Stall::SingularJacobian,
                     iterations,
                     residual: norm(&r),
+                    tolerance: TOLERANCE,
                 }
             })?;
             // Backtracking: halve the step until the residual falls.
@@ -359,7 +261,7 @@ impl ProfileProblem {
         iterations: usize,
         residual: f64,
     ) -> Result<ProfileSolution> {
-        let n = self.n();
+        let n = self.n_bins();
         let ln_p = x[n];
         let mut s = ProfileSolution {
             pressure: ln_p.exp(),

@@ -1,0 +1,54 @@
+//! The crate's single error type.
+
+/// Why a Newton solve stopped before its residual reached the tolerance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stall {
+    /// The iteration limit (the number held) was reached.
+    IterationLimit(usize),
+    /// The Jacobian has no inverse: the closure does not change with the local state.
+    SingularJacobian,
+}
+
+impl std::fmt::Display for Stall {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stall::IterationLimit(limit) => write!(
+                f,
+                "{limit} iterations were not enough (a closure of boosted trees is \
+                 piecewise constant, smoothed only over +-10 % in J and Delta_v)"
+            ),
+            Stall::SingularJacobian => write!(
+                f,
+                "the Jacobian is singular: the closure does not change with the local state \
+                 here, as trees do beyond their training range"
+            ),
+        }
+    }
+}
+
+/// Everything that can go wrong in this crate, with enough context to act on the message.
+#[derive(Debug, thiserror::Error)]
+pub enum SolverError {
+    /// The solve stopped before its residual reached the tolerance.
+    #[error(
+        "the profile solve did not converge: {stall}; largest scaled residual {residual:.3e} \
+         after {iterations} Newton iterations (tolerance {tolerance:.0e})"
+    )]
+    NotConverged {
+        stall: Stall,
+        iterations: usize,
+        residual: f64,
+        tolerance: f64,
+    },
+
+    /// A problem, scene or closure the solver cannot take.
+    #[error("invalid argument: {0}")]
+    InvalidArgument(String),
+
+    /// A closure or a dataset failed in the surrogate crate.
+    #[error(transparent)]
+    Surrogate(#[from] surrogate::SurrogateError),
+}
+
+/// Result type of this crate.
+pub type Result<T> = std::result::Result<T, SolverError>;

@@ -2,6 +2,7 @@
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::input::scene::Scene;
+use sim::output::frame_writer::FrameWriter;
 use sim::output::snapshot_format::SnapshotFormat;
 use sim::run::{Phase, RunOptions};
 use sim::SimError;
@@ -87,26 +88,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         resume: args.resume,
         interrupt: Some(&INTERRUPTED),
     };
-    let mut frames = match args.snapshot {
-        Some(every) => {
-            let path = out.join(args.snapshot_format.file_name());
-            // A resumed run continues the frames of the run it resumes.
-            let file = std::fs::OpenOptions::new()
-                .create(true)
-                .write(true)
-                .append(resuming)
-                .truncate(!resuming)
-                .open(&path)
-                .with_context(|| format!("creating {}", path.display()))?;
-            Some((every, file))
-        }
-        None => None,
-    };
+    // A resumed run continues the frames of the run it resumes.
+    let mut frames = args
+        .snapshot
+        .map(|every| FrameWriter::open(out, args.snapshot_format, every, resuming))
+        .transpose()?;
     let bar = ProgressBar::new(1000);
     bar.set_style(ProgressStyle::with_template(
         "{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})",
     )?);
-    let mut frame_error = None;
     let outcome = crate::threads::with_threads(args.threads, || {
         sim::run::run(&scene, &opts, &mut |p, sim| {
             match p.phase {
@@ -125,16 +115,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     ));
                 }
             }
-            if let Some((every, file)) = frames.as_mut() {
-                if p.samples.is_multiple_of(*every) && frame_error.is_none() {
-                    frame_error = args.snapshot_format.append_frame(file, sim).err();
-                }
+            if let Some(frames) = frames.as_mut() {
+                frames.after_sample(p.samples, sim);
             }
         })
     })?;
     bar.finish_and_clear();
-    if let Some(e) = frame_error {
-        return Err(e.into());
+    if let Some(frames) = frames {
+        frames.finish()?;
     }
     let outcome = match outcome {
         Err(SimError::Interrupted { step }) => {

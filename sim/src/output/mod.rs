@@ -5,6 +5,7 @@ pub mod checkpoint;
 pub mod dataset_columns;
 pub mod element_symbol;
 pub mod extended_xyz;
+pub mod frame_writer;
 pub mod lammps_dump;
 pub mod result_files;
 pub mod snapshot_cell;

@@ -6,7 +6,7 @@ use crate::scene::Scene;
 use pyo3::prelude::*;
 use sim::output::dataset_columns as col;
 use solver::{fit_local_rheology, LearnedClosure, ProfileProblem};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use surrogate::{Dataset, Predictor};
 
 /// A solved profile: per-bin columns under the dataset's names, and how the solve went.
@@ -23,8 +23,20 @@ pub struct Solution {
     pub pressure: f64,
 }
 
+/// The `dv` model's training data: the path its sidecar names, taken from the current
+/// directory as the command does, or else from the folder holding `models` (a script run
+/// outside the repository that names `REPO/models`).
+fn training_data(models: &Path, predictor: &Predictor) -> PathBuf {
+    let source = PathBuf::from(&predictor.meta().training_data.source);
+    match models.parent() {
+        Some(repo) if source.is_relative() && !source.exists() => repo.join(source),
+        _ => source,
+    }
+}
+
 /// Solves `scene` with the `closure` (`learned`: the `dv` model in `models`; `local`: the
-/// local rheology fitted on `train`, by default the `dv` model's training data), Newton
+/// local rheology fitted on `train`, by default the `dv` model's training data, see
+/// [`training_data`]), Newton
 /// iterations from the pressure `p_start` (units eta / time).
 #[pyfunction]
 #[pyo3(signature = (scene, models, closure = "learned", train = None, p_start = 0.1))]
@@ -47,8 +59,7 @@ pub fn solve(
             py.allow_threads(|| problem.solve(&learned, p_start))
         }
         "local" => {
-            let train =
-                train.unwrap_or_else(|| PathBuf::from(&predictor.meta().training_data.source));
+            let train = train.unwrap_or_else(|| training_data(&models, &predictor));
             let data = Dataset::read_csv(&train).map_err(|e| {
                 Error::context("reading the training data for the local rheology", e)
             })?;

@@ -1,5 +1,6 @@
 //! `suspflow simulate SCENE.toml --out DIR`: one scene to its steady-state profile.
 use anyhow::Context;
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::input::scene::Scene;
 use sim::output::frame_writer::FrameWriter;
@@ -44,7 +45,9 @@ pub struct Args {
         long,
         value_name = "FORMAT",
         default_value = "xyz",
-        requires = "snapshot"
+        requires = "snapshot",
+        value_parser = PossibleValuesParser::new(["xyz", "lammps"])
+            .map(|s| s.parse::<SnapshotFormat>().expect("a listed format parses"))
     )]
     snapshot_format: SnapshotFormat,
 }

@@ -51,7 +51,7 @@ impl std::str::FromStr for SnapshotFormat {
             "xyz" => Ok(SnapshotFormat::Xyz),
             "lammps" => Ok(SnapshotFormat::Lammps),
             other => Err(SimError::Output {
-                path: "snapshot".into(),
+                path: "frames".into(),
                 message: format!("unknown snapshot format `{other}` (xyz or lammps)"),
             }),
         }

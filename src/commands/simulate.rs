@@ -1,8 +1,11 @@
 //! `suspflow simulate SCENE.toml --out DIR`: one scene to its steady-state profile.
 use anyhow::Context;
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use indicatif::{ProgressBar, ProgressStyle};
 use sim::input::run_cost::RunCost;
 use sim::input::scene::Scene;
+use sim::output::frame_writer::FrameWriter;
+use sim::output::snapshot_format::SnapshotFormat;
 use sim::run::{Phase, RunOptions};
 use sim::SimError;
 use std::path::PathBuf;
@@ -33,9 +36,21 @@ pub struct Args {
     /// step and what limits it) without running.
     #[arg(long)]
     check: bool,
-    /// Write an extended-XYZ frame every N snapshots to DIR/frames.xyz (appended to on --resume).
+    /// Write a particle frame every N snapshots to DIR/frames.xyz or DIR/frames.lammpstrj
+    /// (appended to on --resume).
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u64).range(1..))]
     snapshot: Option<u64>,
+    /// Format of the --snapshot frames: xyz (extended XYZ: ASE, OVITO) or lammps (LAMMPS
+    /// text dump: OVITO, ASE, MDAnalysis).
+    #[arg(
+        long,
+        value_name = "FORMAT",
+        default_value = "xyz",
+        requires = "snapshot",
+        value_parser = PossibleValuesParser::new(["xyz", "lammps"])
+            .map(|s| s.parse::<SnapshotFormat>().expect("a listed format parses"))
+    )]
+    snapshot_format: SnapshotFormat,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -82,26 +97,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         resume: args.resume,
         interrupt: Some(&INTERRUPTED),
     };
-    let mut frames = match args.snapshot {
-        Some(every) => {
-            let path = out.join("frames.xyz");
-            // A resumed run continues the frames of the run it resumes.
-            let file = std::fs::OpenOptions::new()
-                .create(true)
-                .write(true)
-                .append(resuming)
-                .truncate(!resuming)
-                .open(&path)
-                .with_context(|| format!("creating {}", path.display()))?;
-            Some((every, file))
-        }
-        None => None,
-    };
+    // A resumed run continues the frames of the run it resumes.
+    let mut frames = args
+        .snapshot
+        .map(|every| FrameWriter::open(out, args.snapshot_format, every, resuming))
+        .transpose()?;
     let bar = ProgressBar::new(1000);
     bar.set_style(ProgressStyle::with_template(
         "{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})",
     )?);
-    let mut frame_error = None;
     let outcome = crate::threads::with_threads(args.threads, || {
         sim::run::run(&scene, &opts, &mut |p, sim| {
             match p.phase {
@@ -120,16 +124,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     ));
                 }
             }
-            if let Some((every, file)) = frames.as_mut() {
-                if p.samples.is_multiple_of(*every) && frame_error.is_none() {
-                    frame_error = sim::output::result_files::append_xyz_frame(file, sim).err();
-                }
+            if let Some(frames) = frames.as_mut() {
+                frames.after_sample(p.samples, sim);
             }
         })
     })?;
     bar.finish_and_clear();
-    if let Some(e) = frame_error {
-        return Err(e.into());
+    if let Some(frames) = frames {
+        frames.finish()?;
     }
     let outcome = match outcome {
         Err(SimError::Interrupted { step }) => {

@@ -2,4 +2,11 @@
 
 pub mod atomic_write;
 pub mod checkpoint;
+pub mod element_symbol;
+pub mod extended_xyz;
+pub mod frame_writer;
+pub mod lammps_dump;
 pub mod result_files;
+pub mod snapshot_cell;
+pub mod snapshot_columns;
+pub mod snapshot_format;

@@ -1,10 +1,9 @@
 //! Result files: `profile.csv` (one row per bin, the column names of docs/physics.md
 //! section 8 with `_se` standard errors), `summary.json`, `snapshot_sums.json` (the scene and
 //! its averaged snapshot sums, from which the profile follows under any observable
-//! convention), and extended-XYZ frames that OVITO reads.
+//! convention). The particle frames are [`snapshot_format`](crate::output::snapshot_format)'s.
 use crate::error::SimError;
 use crate::input::scene::{Scene, SceneFile};
-use crate::integrate::simulation::Simulation;
 use crate::output::atomic_write::write_atomic;
 use crate::run::{RunOutcome, RunSummary};
 use crate::sampling::bin_averages::BinAverages;
@@ -12,7 +11,6 @@ use crate::sampling::block_sums::BlockSums;
 use schema::columns::{self as dataset_columns, OBSERVABLES};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::Path;
 
 /// Formats a value; undefined (NaN) values become empty fields.
@@ -89,26 +87,4 @@ fn write_json(path: &Path, value: &impl Serialize) -> Result<(), SimError> {
         message: e.to_string(),
     })?;
     write_atomic(path, &json)
-}
-
-/// Appends one extended-XYZ frame (identity, species, position, radius, velocity, spin) to `file`.
-pub fn append_xyz_frame(file: &mut std::fs::File, sim: &Simulation) -> Result<(), SimError> {
-    let p = &sim.particles;
-    let l = sim.pbox.len;
-    let mut s = String::with_capacity(p.len() * 120);
-    let _ = writeln!(s, "{}", p.len());
-    let _ = writeln!(s, "Lattice=\"{} 0 0 0 {} 0 0 0 {}\" Properties=id:I:1:species:S:1:pos:R:3:radius:R:1:velo:R:3:omega:R:3 Time={} pbc=\"T T T\"",
-        l.x, l.y, l.z, sim.time);
-    for i in 0..p.len() {
-        let (x, v, w) = (p.pos[i], p.vel[i], p.omega[i]);
-        let _ = writeln!(
-            s,
-            "{} S{} {} {} {} {} {} {} {} {} {} {}",
-            p.id[i], p.species[i], x.x, x.y, x.z, p.radius[i], v.x, v.y, v.z, w.x, w.y, w.z
-        );
-    }
-    file.write_all(s.as_bytes()).map_err(|e| SimError::Output {
-        path: "snapshot xyz".into(),
-        message: e.to_string(),
-    })
 }

@@ -1,0 +1,28 @@
+//! The native half of the Python package `suspflow` (module `suspflow._native`): thin
+//! bindings of the `sim`, `surrogate` and `solver` crates. Tables cross the boundary as
+//! columns (lists of floats or strings) or CSV bytes; `suspflow/__init__.py` turns them into
+//! NumPy arrays and pandas DataFrames. The physics, units and equations are the crates'
+//! (docs/physics.md); the docstrings of `suspflow/__init__.py` restate the units.
+use pyo3::prelude::*;
+
+mod dataset;
+mod error;
+mod models;
+mod scene;
+mod simulate;
+mod solve;
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("SuspflowError", m.py().get_type::<error::SuspflowError>())?;
+    m.add("CODE_VERSION", sim::CODE_VERSION)?;
+    m.add_class::<scene::Scene>()?;
+    m.add_class::<models::Predictions>()?;
+    m.add_class::<solve::Solution>()?;
+    m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(models::predict, m)?)?;
+    m.add_function(wrap_pyfunction!(models::validate, m)?)?;
+    m.add_function(wrap_pyfunction!(dataset::read_dataset, m)?)?;
+    m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
+    Ok(())
+}

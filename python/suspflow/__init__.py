@@ -1,0 +1,261 @@
+"""suspflow from Python: scenes, simulations, surrogate models and the profile solver of the
+Rust workspace, with NumPy and pandas in and out.
+
+Units are the simulator's (docs/physics.md section 1): lengths in the radius ``a`` of the
+small spheres, the fluid viscosity ``eta``, particle density ``rho`` and contact stiffness
+``k_n`` set the others (all 1, 1 and 1e4 by default), so velocities are in ``a`` per unit
+time, shear rates ``gdot`` in 1 / time, stresses ``sigma_xy`` and pressures ``P`` in
+``eta`` / time, the drag density ``f_x`` in ``eta`` / (time a), and ``phi``, ``phi_loc``,
+``J = eta gdot / P``, ``mu = |sigma_xy| / P``, ``Theta`` and ``Delta_v`` are dimensionless
+(docs/physics.md sections 6 and 8 define the columns).
+
+Functions: :func:`read_scene`, :func:`check`, :func:`simulate`, :func:`predict`,
+:func:`validate`, :func:`read_dataset`, :func:`read_ensemble`, :func:`solve`. Every failure of
+the Rust side raises :class:`SuspflowError` with the crates' message (a bad scene names the
+field).
+"""
+from __future__ import annotations
+
+import json
+import os
+import pathlib
+import sys
+import warnings
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import pandas as pd
+
+from . import _native
+from ._native import CODE_VERSION, Scene, SuspflowError
+
+__all__ = [
+    "CODE_VERSION",
+    "Scene",
+    "SuspflowError",
+    "check",
+    "predict",
+    "read_dataset",
+    "read_ensemble",
+    "read_scene",
+    "simulate",
+    "solve",
+    "validate",
+]
+
+PathLike = Union[str, "os.PathLike[str]"]
+SceneLike = Union[Scene, PathLike, Mapping[str, Any]]
+TableLike = Union[pd.DataFrame, PathLike]
+
+
+def read_scene(scene: SceneLike, strict: bool = False) -> Scene:
+    """Reads and validates a scene: a TOML file (path), or a mapping with the scene file's
+    keys (``{"name": ..., "box": {"l_x": 17.0, ...}, "particles": {"phi": 0.54}, "fluid":
+    {"profile": "0.1*sin(2*pi*y/L)"}, ...}``; lengths in units of ``a``). ``strict`` refuses
+    scenes that only warrant a warning (Stokes number >= 0.1). A :class:`Scene` is returned
+    as it is."""
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, Mapping):
+        return Scene.from_json(json.dumps(scene), strict)
+    return Scene.from_path(os.fspath(scene), strict)
+
+
+def check(scene: SceneLike) -> Dict[str, Any]:
+    """The derived quantities of a valid scene, as ``suspflow simulate --check`` prints them:
+    ``n_particles``, ``species_counts``, ``phi`` (the packing's actual volume fraction),
+    ``n_bins``, ``bin_width`` (a), ``box`` (a), ``memory_bytes``, ``gdot_max`` (1/time),
+    ``rho``, ``stokes``, ``integrator``, ``dt`` (time) and ``dt_limit`` (what sets it), the
+    critical steps ``contact_critical``, ``drag_critical``, ``lubrication_critical`` and the
+    accuracy cap ``accuracy_limit`` (time), ``steps_per_strain``, ``max_strain``,
+    ``snapshots`` and the validation ``warnings``."""
+    return json.loads(read_scene(scene).check())
+
+
+def _progress_line(report: Dict[str, Any]) -> None:
+    if report["phase"] == "equilibrating":
+        text = f"equilibrating: strain {report['strain']:.2f} of budget {report['max_strain']:.1f}"
+    else:
+        text = f"averaging: snapshot {report['snapshots']} / {report['snapshots_target']}"
+    sys.stderr.write(f"\r{text:<60}")
+    sys.stderr.flush()
+
+
+def simulate(
+    scene: SceneLike,
+    out: PathLike,
+    *,
+    threads: int = 0,
+    resume: bool = False,
+    force: bool = False,
+    snapshot: Optional[int] = None,
+    snapshot_format: str = "xyz",
+    progress: Union[bool, Callable[[Dict[str, Any]], None]] = True,
+) -> Dict[str, Any]:
+    """Runs a scene to its steady-state profile and writes the files of ``suspflow simulate``
+    into ``out``: ``profile.csv`` (one row per bin), ``summary.json``, ``snapshot_sums.json``
+    and ``checkpoint.json``; with ``snapshot=N`` a particle frame every N samples to
+    ``frames.xyz`` (``snapshot_format="xyz"``, extended XYZ) or ``frames.lammpstrj``
+    (``"lammps"``, LAMMPS text dump), positions in a, velocities in a/time, spins in 1/time.
+
+    ``threads``: 0 = all cores (a run is bit-identical to another with the same count).
+    ``resume`` continues ``out/checkpoint.json``; an ``out`` holding an earlier run is refused
+    unless ``resume`` or ``force`` (start over). ``progress``: True writes a status line to
+    standard error, False nothing, a callable receives a dict (``phase``, ``strain``,
+    ``max_strain``, ``snapshots``, ``snapshots_target``, ``step``) after every sample.
+
+    The run holds no GIL. Ctrl-C raises KeyboardInterrupt within 256 steps, after the state is
+    saved in ``out/checkpoint.json`` (``resume=True`` continues it); so does an exception of
+    the progress callable, which is re-raised. Returns the run summary (``summary.json``:
+    ``n_particles``, ``dt``, ``steps``, ``strain_to_steady``, ``wall_s``, ...)."""
+    scene = read_scene(scene)
+    out = pathlib.Path(out)
+    if out.exists() and not out.is_dir():
+        raise SuspflowError(f"{out} is a file; choose a directory for the run")
+    if resume and force:
+        raise SuspflowError("resume and force exclude each other")
+    if not resume and not force:
+        for name, what in [
+            ("checkpoint.json", "the checkpoint of an unfinished run; resume=True continues it"),
+            ("profile.csv", "the result of an earlier run"),
+        ]:
+            if (out / name).exists():
+                raise SuspflowError(
+                    f"{out / name} holds {what}; force=True starts over, or choose another out"
+                )
+    out.mkdir(parents=True, exist_ok=True)
+    callback = _progress_line if progress is True else (progress or None)
+    try:
+        summary = _native.simulate(
+            scene, os.fspath(out), threads, resume, snapshot, snapshot_format, callback
+        )
+    finally:
+        if progress is True:
+            sys.stderr.write("\n")
+    return json.loads(summary)
+
+
+def _table(data: TableLike) -> Union[bytes, str]:
+    """A table for the Rust reader: a path as it is, a DataFrame as CSV bytes (shortest
+    round-trip decimals, empty cells for NaN, as the datasets are written)."""
+    if isinstance(data, pd.DataFrame):
+        return data.to_csv(index=False).encode()
+    return os.fspath(data)
+
+
+def _model_path(model: PathLike, mapping: Optional[str]) -> tuple:
+    """``(dir, mapping)`` of a model named ``DIR/<mapping>`` or given as ``DIR`` and ``mapping``."""
+    path = pathlib.Path(model)
+    if mapping is not None:
+        return os.fspath(path), mapping
+    name = path.name
+    for suffix in (".meta.json", ".json"):
+        if name.endswith(suffix):
+            name = name[: -len(suffix)]
+    return os.fspath(path.parent), name
+
+
+def predict(model: PathLike, data: TableLike, mapping: Optional[str] = None) -> pd.DataFrame:
+    """A trained mapping's predictions for every row of ``data`` (a DataFrame or a CSV path
+    with the mapping's feature columns), as ``suspflow predict``: the model is
+    ``DIR/<mapping>`` (e.g. ``models/dv``) or ``DIR`` with ``mapping``. Returns the input
+    columns, one ``<output>_pred`` column per output (``phi_loc`` dimensionless, clipped into
+    0 < phi_loc < 0.74; ``mu`` dimensionless, >= 0), ``in_domain`` (whether the row lies in the
+    model's training domain) and ``domain_distance`` (distance to the nearest training rows in
+    units of the domain's threshold; <= 1 is near enough). ``attrs["clipped"]`` counts the
+    clipped values; warnings say how many rows lie outside the domain."""
+    directory, name = _model_path(model, mapping)
+    table = data if isinstance(data, pd.DataFrame) else read_dataset(data)
+    p = _native.predict(directory, name, _table(data))
+    result = table.copy()
+    for output, values in zip(p.outputs, p.values):
+        result[f"{output}_pred"] = np.asarray(values)
+    result["in_domain"] = np.asarray(p.in_domain, dtype=bool)
+    result["domain_distance"] = np.asarray(p.domain_distance)
+    result.attrs["clipped"] = p.clipped
+    if p.clipped:
+        warnings.warn(
+            f"{p.clipped} predicted values of `{name}` left their physical range and were clipped"
+        )
+    outside = int((~result["in_domain"]).sum())
+    if outside:
+        warnings.warn(
+            f"{outside} of {len(result)} rows lie outside the training domain of `{name}`: "
+            "their predictions are extrapolations (in_domain = False)"
+        )
+    return result
+
+
+def validate(
+    models: PathLike, data: TableLike, mappings: Optional[Sequence[str]] = None
+) -> pd.DataFrame:
+    """The trained mappings (all of ``mu``, ``theta``, ``dv`` in ``models`` unless
+    ``mappings`` names some) on a validation table (per-run or ensemble table, DataFrame or
+    path): one row per mapping, output and profile (the ``profile`` column, then all
+    profiles together and the rows inside and outside the training domain) with ``rel_l2``,
+    the relative L2 error of eq 6.6 on outputs min-max scaled with the training ranges (a
+    fraction, not a percent): the records of ``suspflow validate --json``."""
+    records = _native.validate(os.fspath(models), _table(data), list(mappings or []))
+    return pd.DataFrame(records, columns=["mapping", "output", "profile", "rel_l2"])
+
+
+def read_dataset(path: PathLike) -> pd.DataFrame:
+    """A dataset (one row per bin per run) or an ensemble table (one row per bin per scene,
+    averaged over replicas) as the commands read it: columns whose every cell is a number as
+    floats (an empty cell, an undefined value, as NaN), the others as strings.
+    ``attrs["kind"]`` is ``"runs"``, ``"ensemble"`` (None for a table without scene ids) and
+    ``attrs["description"]`` says how many scenes, runs or replicas it holds."""
+    columns, kind = _native.read_dataset(os.fspath(path))
+    frame = pd.DataFrame(
+        {
+            name: np.asarray(values, dtype=float) if values and isinstance(values[0], float)
+            else pd.Series(values, dtype=object)
+            for name, values in columns
+        }
+    )
+    frame.attrs["kind"], frame.attrs["description"] = kind if kind else (None, None)
+    return frame
+
+
+def read_ensemble(path: PathLike) -> pd.DataFrame:
+    """An ensemble table (``<stem>.ensemble.csv`` of ``generate`` or ``merge``: per scene and
+    bin each observable's mean over the replicas, its standard error ``<column>_se`` and
+    the replica count) as a DataFrame, like :func:`read_dataset`; other tables are refused."""
+    frame = read_dataset(path)
+    if frame.attrs["kind"] != "ensemble":
+        raise SuspflowError(
+            f"{path} is not an ensemble table (it has no `replicas` and `se_from` columns)"
+        )
+    return frame
+
+
+def solve(
+    scene: SceneLike,
+    models: PathLike = "models",
+    closure: str = "learned",
+    *,
+    train: Optional[PathLike] = None,
+    p_start: float = 0.1,
+) -> pd.DataFrame:
+    """The steady profile of a scene from its forcing alone (``suspflow solve``): bin
+    velocities ``u`` (a/time) and one pressure ``P`` (eta/time) that balance the face stress
+    ``-sign(gdot) mu P`` against the drag density ``6 pi eta <a>/<V_p> phi_loc (u_inf - u)``
+    with ``mean(phi_loc) = phi`` (docs/physics.md section 8), closed by ``closure``:
+    ``"learned"`` (the ``dv`` model in ``models``) or ``"local"`` (the local rheology fitted
+    on ``train``, by default the ``dv`` model's training data). Newton iterations start from
+    ``p_start`` (eta/time). Returns one row per bin with the columns of ``suspflow solve``'s
+    profile.csv (``scene_id``, ``profile``, ``L_y``, ``phi``, ``y``, ``u_inf``, ``u``,
+    ``gdot``, ``sigma_xy``, ``P``, ``phi_loc``, ``J``, ``mu``, ``Delta_v``, ``f_x``);
+    ``attrs`` holds ``iterations``, ``residual`` (largest balance residual in units of the
+    forcing's drag density) and ``pressure``."""
+    scene = read_scene(scene)
+    s = _native.solve(
+        scene, os.fspath(models), closure, None if train is None else os.fspath(train), p_start
+    )
+    file = json.loads(scene.to_json())
+    n = len(s.columns[0][1])
+    frame = pd.DataFrame({"scene_id": [file["name"]] * n, "profile": [file["fluid"]["profile"]] * n})
+    for name, values in s.columns:
+        frame[name] = np.asarray(values)
+    frame.attrs.update(iterations=s.iterations, residual=s.residual, pressure=s.pressure)
+    return frame

@@ -1,0 +1,68 @@
+"""Typed stubs of the native module `suspflow._native` (the Rust bindings under python/src).
+Use the wrappers in `suspflow` (DataFrames in and out); units are stated there."""
+from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
+
+CODE_VERSION: str
+"""The code version stamped into every result file (`code_version` column)."""
+
+class SuspflowError(Exception):
+    """An error of the simulator, the surrogate models or the profile solver."""
+
+class Scene:
+    """A validated scene (lengths in units of the small-sphere radius a)."""
+
+    @staticmethod
+    def from_path(path: str, strict: bool = False) -> "Scene": ...
+    @staticmethod
+    def from_json(text: str, strict: bool = False) -> "Scene": ...
+    def to_json(self) -> str:
+        """The scene file with every default filled in, as JSON text."""
+    def check(self) -> str:
+        """Derived quantities (`suspflow simulate --check`) as JSON text."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def warnings(self) -> List[str]: ...
+
+class Predictions:
+    outputs: List[str]
+    values: List[List[float]]
+    in_domain: List[bool]
+    in_range: List[bool]
+    domain_distance: List[float]
+    clipped: int
+
+class Solution:
+    columns: List[Tuple[str, List[float]]]
+    iterations: int
+    residual: float
+    pressure: float
+
+Table = Union[bytes, str]
+"""A CSV path, or the bytes of a CSV text."""
+
+def simulate(
+    scene: Scene,
+    out: str,
+    threads: int = 0,
+    resume: bool = False,
+    snapshot: Optional[int] = None,
+    snapshot_format: str = "xyz",
+    progress: Optional[Callable[[Dict[str, object]], None]] = None,
+) -> str:
+    """Runs `scene` into the existing directory `out`; returns summary.json's text."""
+
+def predict(dir: str, mapping: str, table: Table) -> Predictions: ...
+def validate(
+    dir: str, table: Table, mappings: Sequence[str] = ...
+) -> List[Tuple[str, str, str, float]]: ...
+def read_dataset(
+    path: str,
+) -> Tuple[List[Tuple[str, Union[List[float], List[str]]]], Optional[Tuple[str, str]]]: ...
+def solve(
+    scene: Scene,
+    models: str,
+    closure: str = "learned",
+    train: Optional[str] = None,
+    p_start: float = 0.1,
+) -> Solution: ...

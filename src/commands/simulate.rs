@@ -75,6 +75,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         checkpoint: Some(checkpoint.clone()),
         resume: args.resume,
         interrupt: Some(&INTERRUPTED),
+        code_version: crate::CODE_VERSION,
     };
     let mut frames = match args.snapshot {
         Some(every) => {

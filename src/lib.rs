@@ -16,3 +16,7 @@ mod scene_work;
 mod surrogate_text;
 mod threads;
 mod training_overlap;
+
+/// Version of the code that produced a result: package version, commit, and `-dirty` when
+/// the working tree had uncommitted changes at build time (see `build/stamp.rs`).
+pub const CODE_VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("SUSPFLOW_COMMIT"));

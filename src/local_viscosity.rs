@@ -5,7 +5,7 @@ use anyhow::Context;
 use schema::columns as col;
 use std::collections::BTreeMap;
 use std::path::Path;
-use surrogate::Dataset;
+use surrogate::{median, Dataset};
 
 /// A bin counts as sheared when its `|gdot|` is at least this fraction of the largest
 /// `|gdot|` of its scene: near a velocity extremum `J -> 0` and `mu / J` is noise over noise.
@@ -33,16 +33,6 @@ impl LocalBand {
     /// reference at its own `phi_loc`.
     pub fn ratio(&self, reference: impl Fn(f64) -> f64) -> f64 {
         median(self.bins.iter().map(|&(p, e)| e / reference(p)).collect())
-    }
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
     }
 }
 

@@ -1,9 +1,9 @@
 //! End-to-end timing of a saved model: load, read a table, predict (what `bench-predict`
-//! reports and the report's surrogate sections reuse), and the median of repeated timings.
+//! reports and the report's surrogate sections reuse), with the median of repeated timings.
 use serde::Serialize;
 use std::path::Path;
 use std::time::{Duration, Instant};
-use surrogate::{Dataset, Mapping, Predictor};
+use surrogate::{median, Dataset, Mapping, Predictor};
 
 /// Timings of one mapping, in milliseconds.
 #[derive(Serialize)]
@@ -59,11 +59,4 @@ pub fn time_mapping(
         read_ms: stage_median(&|s| s[1]),
         predict_ms: stage_median(&|s| s[2]),
     })
-}
-
-/// The median of `values` (the upper one of the middle two for an even count); `values` is
-/// not empty.
-pub fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
 }

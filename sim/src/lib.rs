@@ -29,7 +29,3 @@ pub use integrate::simulation::Simulation;
 pub use integrate::timestep::{DtLimit, TimeStep};
 pub use run::{RunOptions, RunOutcome, RunSummary};
 pub use sampling::bin_averages::BinAverages;
-
-/// Version of the code that produced a result: package version, commit, and `-dirty` when
-/// the working tree had uncommitted changes at build time (see `build.rs`).
-pub const CODE_VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("SUSPFLOW_COMMIT"));

@@ -77,6 +77,9 @@ pub struct RunOptions {
     /// Set (e.g. by Ctrl-C) to stop within [`INTERRUPT_POLL_STEPS`] steps after saving a
     /// checkpoint.
     pub interrupt: Option<&'static AtomicBool>,
+    /// Version of the code, written into the summary (the caller's build stamp; empty when
+    /// unstamped).
+    pub code_version: &'static str,
 }
 
 /// The run's own progress (the system's state is kept by the [`Simulation`]).
@@ -524,7 +527,7 @@ pub fn run(
         warnings,
         stress_convention: "sigma = sum of stresslets -F_ij (x) r_ij / V_b, positive in compression (minus the Cauchy stress); P = tr(sigma)/3",
         observables: scene.file.observables,
-        code_version: crate::CODE_VERSION,
+        code_version: opts.code_version,
     };
     // Not in a Brownian scene: its random loads are not in the binned stress (their
     // direct virial averages to zero, docs/physics.md section 11), so the binned balance

@@ -75,6 +75,7 @@ fn assert_reproducible(scene: &Scene, stop: &'static AtomicBool) {
             checkpoint: Some(checkpoint.clone()),
             resume: true,
             interrupt: Some(stop),
+            ..RunOptions::default()
         };
         for stop_at in [7, 45] {
             stop.store(false, Ordering::SeqCst);
@@ -127,6 +128,7 @@ fn a_checkpoint_of_another_scene_is_refused() {
         checkpoint: Some(dir.join("checkpoint.json")),
         resume: true,
         interrupt: Some(&STOP),
+        ..RunOptions::default()
     };
     assert!(matches!(
         rows(&scene, &opts, Some((2, &STOP))),
@@ -334,6 +336,7 @@ fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
         checkpoint: Some(dir.join("checkpoint.json")),
         resume: true,
         interrupt: Some(&STOP),
+        ..RunOptions::default()
     };
     on_threads(1, || {
         let plain = rows(&scene, &RunOptions::default(), None).unwrap();

@@ -4,7 +4,6 @@
 //! work directory), so that every convention sees the same snapshots. Prints, as Markdown,
 //! per option the median and the largest relative difference from the default over all bins
 //! of all runs, then per run the independent stress checks.
-use crate::prediction_timing::median;
 use anyhow::Context;
 use sim::input::scene::Scene;
 use sim::output::result_files::{SnapshotSums, SNAPSHOT_SUMS};
@@ -14,6 +13,7 @@ use sim::sampling::convention_effects::{convention_effects, COMPARED};
 use sim::sampling::stress_checks::stress_checks;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use surrogate::median;
 
 #[derive(clap::Args)]
 pub struct Args {

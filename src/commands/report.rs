@@ -99,7 +99,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         md,
         "Command: `suspflow {}`; code version {}; {} threads.\n",
         std::env::args().skip(1).collect::<Vec<_>>().join(" "),
-        sim::CODE_VERSION,
+        crate::CODE_VERSION,
         rayon::current_num_threads()
     );
 

@@ -96,6 +96,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         checkpoint: Some(checkpoint.clone()),
         resume: args.resume,
         interrupt: Some(&INTERRUPTED),
+        code_version: crate::CODE_VERSION,
     };
     // A resumed run continues the frames of the run it resumes.
     let mut frames = args

@@ -115,7 +115,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         residual: solution.residual,
         pressure: solution.pressure,
         wall_ms,
-        code_version: sim::CODE_VERSION,
+        code_version: crate::CODE_VERSION,
     };
     std::fs::write(
         args.out.join("summary.json"),

@@ -2,7 +2,9 @@
 //! its stability map, one row per (parameter, value), one column per dt multiple, each
 //! cell coloured by the outcome (green stable, yellow finished but inaccurate, red blow-up
 //! caught and explained, orange any other failure), as SVG.
-use crate::report::stability_sweep::{self, box_height, CaseResult, SweepSize, DT_FACTORS};
+use crate::report::stability_sweep::{
+    self, box_height, CaseResult, Stability, SweepSize, DT_FACTORS,
+};
 use anyhow::Context;
 use plotters::prelude::*;
 use std::fmt::Write as _;
@@ -50,9 +52,9 @@ fn draw(path: &Path, results: &[CaseResult]) -> anyhow::Result<()> {
             .map_err(svg_err)?;
         }
         let colour = match (r.status, r.cause_named) {
-            ("stable", _) => RGBColor(120, 200, 120),
-            ("inaccurate", _) => RGBColor(240, 220, 90),
-            ("blow-up", true) => RGBColor(220, 90, 90),
+            (Stability::Stable, _) => RGBColor(120, 200, 120),
+            (Stability::Inaccurate, _) => RGBColor(240, 220, 90),
+            (Stability::BlowUp, true) => RGBColor(220, 90, 90),
             _ => RGBColor(240, 170, 60),
         };
         root.draw(&Rectangle::new(
@@ -84,7 +86,7 @@ pub fn section(
     md.push_str("![stability map](stability_map.svg)\n\n");
     md.push_str("| parameter | value | dt factor | outcome | dt | limit, gain over explicit | max overlap / a_min | momentum residual | message names the cause |\n");
     md.push_str("|---|---|---|---|---|---|---|---|---|\n");
-    let finished = |r: &CaseResult| matches!(r.status, "stable" | "inaccurate");
+    let finished = |r: &CaseResult| r.status.finished();
     for r in results {
         let named = if finished(r) {
             ""
@@ -111,9 +113,9 @@ pub fn section(
     let _ = writeln!(md, "\nAt the automatic dt and half of it: {} of {} cases unstable. Above it: {} of {} failed, {} of the failures \
         with a message naming step, particle and cause. Finished with a momentum residual above {}: {}. \
         Finished runs with a non-finite result: {}.\n",
-        count(&|r| r.case.dt_factor <= 1.0 && r.status != "stable"), count(&|r| r.case.dt_factor <= 1.0),
+        count(&|r| r.case.dt_factor <= 1.0 && r.status != Stability::Stable), count(&|r| r.case.dt_factor <= 1.0),
         count(&|r| r.case.dt_factor > 1.0 && !finished(r)), count(&|r| r.case.dt_factor > 1.0),
-        count(&|r| !finished(r) && r.cause_named), stability_sweep::INACCURATE_RESIDUAL, count(&|r| r.status == "inaccurate"),
+        count(&|r| !finished(r) && r.cause_named), stability_sweep::INACCURATE_RESIDUAL, count(&|r| r.status == Stability::Inaccurate),
         count(&|r| finished(r) && !(r.momentum_residual.is_finite() && r.max_overlap.is_finite())));
     md.push_str("Each failure with its error message:\n\n");
     for r in results.iter().filter(|r| !finished(r)) {

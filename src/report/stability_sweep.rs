@@ -27,12 +27,42 @@ pub struct Case {
     pub dt_factor: f64,
 }
 
+/// How a case ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stability {
+    /// Finished with a momentum residual at most [`INACCURATE_RESIDUAL`].
+    Stable,
+    /// Finished, momentum residual above [`INACCURATE_RESIDUAL`].
+    Inaccurate,
+    BlowUp,
+    NotSteady,
+    /// Invalid scene or packing.
+    Refused,
+}
+
+impl Stability {
+    /// Whether the run reached the end of its averaging.
+    pub fn finished(self) -> bool {
+        matches!(self, Stability::Stable | Stability::Inaccurate)
+    }
+}
+
+impl std::fmt::Display for Stability {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Stability::Stable => "stable",
+            Stability::Inaccurate => "inaccurate",
+            Stability::BlowUp => "blow-up",
+            Stability::NotSteady => "not steady",
+            Stability::Refused => "refused",
+        })
+    }
+}
+
 /// What a case did.
 pub struct CaseResult {
     pub case: Case,
-    /// `stable`, `inaccurate` (finished, momentum residual above [`INACCURATE_RESIDUAL`]),
-    /// `blow-up`, `not steady`, `refused` (invalid scene or packing).
-    pub status: &'static str,
+    pub status: Stability,
     pub dt: f64,
     /// What limits dt, and the gain over the explicit scheme's automatic step on the same
     /// scene, e.g. `accuracy, 30x explicit`.
@@ -122,7 +152,7 @@ pub fn box_height(edge: f64) -> f64 {
 fn run_case(case: Case, size: SweepSize) -> CaseResult {
     let mut result = CaseResult {
         case,
-        status: "refused",
+        status: Stability::Refused,
         dt: f64::NAN,
         dt_limit: String::new(),
         max_overlap: f64::NAN,
@@ -150,16 +180,16 @@ fn run_case(case: Case, size: SweepSize) -> CaseResult {
             result.max_overlap = out.summary.max_overlap;
             result.momentum_residual = out.summary.momentum_residual.unwrap_or(f64::NAN);
             result.status = if result.momentum_residual <= INACCURATE_RESIDUAL {
-                "stable"
+                Stability::Stable
             } else {
-                "inaccurate"
+                Stability::Inaccurate
             };
         }
         Err(e) => {
             result.status = match e {
-                SimError::BlowUp { .. } => "blow-up",
-                SimError::NotSteady { .. } => "not steady",
-                _ => "refused",
+                SimError::BlowUp { .. } => Stability::BlowUp,
+                SimError::NotSteady { .. } => Stability::NotSteady,
+                _ => Stability::Refused,
             };
             result.cause_named = matches!(&e, SimError::BlowUp { cause, what, .. } if !cause.is_empty() && !what.is_empty());
             result.message = e.to_string();

@@ -4,12 +4,12 @@
 //! rounds changed, and validated on the unseen profiles (relative L2, eq 6.6, all profiles
 //! together); the shipped models are timed predicting one validation profile end to end.
 use crate::plots::loglog::{self, Line};
-use crate::prediction_timing::{median, time_mapping};
+use crate::prediction_timing::time_mapping;
 use anyhow::Context;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
-use surrogate::{Dataset, Predictor, TrainedModel, Validation, ALL_PROFILES, MAPPINGS};
+use surrogate::{median, Dataset, Predictor, TrainedModel, Validation, ALL_PROFILES, MAPPINGS};
 
 /// Numbers of trees (boosting rounds) trained.
 pub const TREES: [u32; 6] = [3, 10, 30, 100, 300, 1000];

@@ -1,8 +1,10 @@
-//! Records the git commit the simulator is built from as `SUSPFLOW_COMMIT` (e.g. `g1a2b3c4`
-//! or `g1a2b3c4-dirty`; `unknown` outside a git checkout), for the provenance of results.
+//! Records the git commit the `suspflow` package is built from as `SUSPFLOW_COMMIT` (e.g.
+//! `g1a2b3c4` or `g1a2b3c4-dirty`; `unknown` outside a git checkout), for the provenance of
+//! results. Only that package runs it, so a `git add` or a commit relinks the binary and
+//! rebuilds no library.
 use std::process::Command;
 
-fn main() {
+pub fn main() {
     let git = |args: &[&str]| {
         Command::new("git")
             .args(args)
@@ -28,5 +30,5 @@ fn main() {
             println!("cargo:rerun-if-changed={dir}/{head}");
         }
     }
-    println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-changed=build/stamp.rs");
 }

@@ -12,10 +12,14 @@ mod scene;
 mod simulate;
 mod solve;
 
+/// Version of the code that produced a result: package version and commit (the
+/// workspace's stamp, `build/stamp.rs`), as the command line writes it.
+pub const CODE_VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("SUSPFLOW_COMMIT"));
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SuspflowError", m.py().get_type::<error::SuspflowError>())?;
-    m.add("CODE_VERSION", sim::CODE_VERSION)?;
+    m.add("CODE_VERSION", CODE_VERSION)?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<models::Predictions>()?;
     m.add_class::<solve::Solution>()?;

@@ -89,6 +89,7 @@ pub fn simulate(
         checkpoint: Some(checkpoint.clone()),
         resume,
         interrupt: Some(&INTERRUPTED),
+        code_version: crate::CODE_VERSION,
     };
     let (send, receive) = mpsc::channel::<Report>();
     // Shared with the GIL-free wait, which must be `Send`.

@@ -158,6 +158,7 @@ fn a_damaged_checkpoint_is_refused_saying_what_is_wrong() {
         checkpoint: Some(checkpoint.clone()),
         resume: true,
         interrupt: Some(&STOP),
+        ..RunOptions::default()
     };
     assert!(matches!(
         rows(&scene, &opts, Some((2, &STOP))),
@@ -226,6 +227,7 @@ fn resuming_over_the_finished_run_of_another_scene_is_refused() {
         checkpoint: Some(dir.join("checkpoint.json")),
         resume: true,
         interrupt: None,
+        ..RunOptions::default()
     };
     let outcome = run(&scene, &opts, &mut |_, _| {}).unwrap();
     sim::output::result_files::write_results(&dir, &scene, &outcome).unwrap();

@@ -75,6 +75,7 @@ fn assert_reproducible(scene: &Scene, stop: &'static AtomicBool) {
             checkpoint: Some(checkpoint.clone()),
             resume: true,
             interrupt: Some(stop),
+            packing_progress: None,
         };
         for stop_at in [7, 45] {
             stop.store(false, Ordering::SeqCst);
@@ -117,6 +118,7 @@ fn a_checkpoint_of_another_scene_is_refused() {
         checkpoint: Some(dir.join("checkpoint.json")),
         resume: true,
         interrupt: Some(&STOP),
+        packing_progress: None,
     };
     assert!(matches!(
         rows(&scene, &opts, Some((2, &STOP))),
@@ -146,6 +148,7 @@ fn a_damaged_checkpoint_is_refused_saying_what_is_wrong() {
         checkpoint: Some(checkpoint.clone()),
         resume: true,
         interrupt: Some(&STOP),
+        packing_progress: None,
     };
     assert!(matches!(
         rows(&scene, &opts, Some((2, &STOP))),
@@ -214,6 +217,7 @@ fn resuming_over_the_finished_run_of_another_scene_is_refused() {
         checkpoint: Some(dir.join("checkpoint.json")),
         resume: true,
         interrupt: None,
+        packing_progress: None,
     };
     let outcome = run(&scene, &opts, &mut |_, _| {}).unwrap();
     sim::output::result_files::write_results(&dir, &scene, &outcome).unwrap();
@@ -324,6 +328,7 @@ fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
         checkpoint: Some(dir.join("checkpoint.json")),
         resume: true,
         interrupt: Some(&STOP),
+        packing_progress: None,
     };
     on_threads(1, || {
         let plain = rows(&scene, &RunOptions::default(), None).unwrap();

@@ -295,6 +295,7 @@ fn run_scene(
         checkpoint: Some(work.checkpoint()),
         resume: true,
         interrupt: Some(&INTERRUPTED),
+        packing_progress: None,
     };
     let started = Instant::now();
     let mut last_line = Instant::now();

@@ -77,10 +77,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     )?;
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
         .context("installing the Ctrl-C handler")?;
+    let bar = ProgressBar::new(1000);
+    bar.set_style(ProgressStyle::with_template(
+        "{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})",
+    )?);
+    let n = scene.n_particles();
+    let packing = |overlapping: usize| {
+        bar.set_message(format!(
+            "initial packing of {n} particles: {overlapping} pairs still overlap"
+        ));
+    };
     let opts = RunOptions {
         checkpoint: Some(checkpoint.clone()),
         resume: args.resume,
         interrupt: Some(&INTERRUPTED),
+        packing_progress: Some(&packing),
     };
     let mut frames = match args.snapshot {
         Some(every) => {
@@ -97,10 +108,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         None => None,
     };
-    let bar = ProgressBar::new(1000);
-    bar.set_style(ProgressStyle::with_template(
-        "{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})",
-    )?);
     let mut frame_error = None;
     let outcome = crate::threads::with_threads(args.threads, || {
         sim::run::run(&scene, &opts, &mut |p, sim| {
@@ -132,6 +139,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return Err(e.into());
     }
     let outcome = match outcome {
+        Err(SimError::Interrupted { .. }) if !checkpoint.exists() => {
+            anyhow::bail!(
+                "interrupted during the initial packing; nothing to save (the packing is \
+                 drawn again from the scene's seed)"
+            )
+        }
         Err(SimError::Interrupted { step }) => {
             anyhow::bail!(
                 "interrupted at step {step}; state saved in {}; continue with --resume",

@@ -72,7 +72,7 @@ impl RunCost {
             Self::describe(s),
             show(PARTICLE_STEPS_PER_S)
         );
-        if !(s <= REFUSE_SECONDS) {
+        if !(..=REFUSE_SECONDS).contains(&s) {
             return Err(SimError::field(
                 "run",
                 format!(

@@ -535,6 +535,13 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
             .unwrap()
             .contains("seeds&apos; law"));
     }
+    let again = flow_curves("tests/grids/tiny_shear.toml");
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        !again.status.success()
+            && stderr.contains("README.md already exists (an earlier flow-curve result)"),
+        "{stderr}"
+    );
     let refused = flow_curves("tests/grids/tiny.toml");
     let stderr = String::from_utf8_lossy(&refused.stderr);
     assert!(
@@ -656,7 +663,7 @@ fn sigterm_checkpoints_a_run_held_by_its_lock_and_a_finished_resume_leaves_none(
     std::fs::write(&scene, text.replace("snapshots = 40", "snapshots = 2000")).unwrap();
     let out = dir.join("run");
     let (scene, out_s) = (scene.to_str().unwrap(), out.to_str().unwrap());
-    let mut first = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+    let first = Command::new(env!("CARGO_BIN_EXE_suspflow"))
         .args(["simulate", scene, "--out", out_s])
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::piped())

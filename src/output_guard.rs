@@ -15,6 +15,19 @@ pub fn refuse_unless_force(path: &Path, force: bool, what: &str, hint: &str) -> 
     Ok(())
 }
 
+/// [`refuse_unless_force`] for every file a writer would replace (a table and the files
+/// written beside it): the first existing one is named.
+pub fn refuse_any_unless_force(
+    paths: &[std::path::PathBuf],
+    force: bool,
+    what: &str,
+    hint: &str,
+) -> anyhow::Result<()> {
+    paths
+        .iter()
+        .try_for_each(|p| refuse_unless_force(p, force, what, hint))
+}
+
 /// Fails if `dir`, given as `--out`, exists and is not a directory.
 pub fn out_dir(dir: &Path) -> anyhow::Result<()> {
     if dir.exists() && !dir.is_dir() {

@@ -535,6 +535,13 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
             .unwrap()
             .contains("seeds&apos; law"));
     }
+    let again = flow_curves("tests/grids/tiny_shear.toml");
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        !again.status.success()
+            && stderr.contains("README.md already exists (an earlier flow-curve result)"),
+        "{stderr}"
+    );
     let refused = flow_curves("tests/grids/tiny.toml");
     let stderr = String::from_utf8_lossy(&refused.stderr);
     assert!(

@@ -228,6 +228,16 @@ fn shards_merged_equal_the_whole_grid() {
     let o = suspflow(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(&std::fs::read_to_string(&merged).unwrap(), whole_tiny());
+    // An earlier merge is replaced only with --force.
+    let o = suspflow(&args);
+    assert!(
+        !o.status.success() && stderr(&o).contains("merged.csv already exists"),
+        "{}",
+        stderr(&o)
+    );
+    args.push("--force");
+    let o = suspflow(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
 
     // The same part twice overlaps.
     let o = suspflow(&[

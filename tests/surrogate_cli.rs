@@ -263,6 +263,27 @@ fn train_then_predict_reproduces_a_smooth_law() {
         "--out",
         s(&pred),
     ]);
+    // Neither an earlier table nor the input is replaced without being asked.
+    let mu = models.join("mu");
+    let model = s(&mu);
+    for (out, expect) in [
+        (
+            &pred,
+            "pred.csv already exists (an earlier table); --force replaces it",
+        ),
+        (&data, "is the --input; write the predictions to a new file"),
+    ] {
+        let err = suspflow_err(&[
+            "predict",
+            "--model",
+            model,
+            "--input",
+            s(&data),
+            "--out",
+            s(out),
+        ]);
+        assert!(err.contains(expect), "{err}");
+    }
     let text = std::fs::read_to_string(&pred).unwrap();
     // Every input column is kept, as --help says, then the prediction and
     // the training-domain columns.
@@ -997,6 +1018,14 @@ fn train_keeps_existing_models_and_validate_warns_on_training_rows() {
         "{err}"
     );
     assert_eq!(std::fs::read(models.join("mu.json")).unwrap(), trees);
+    // A lone sidecar is a user's file too.
+    let lone = models.join("lone");
+    std::fs::create_dir_all(&lone).unwrap();
+    std::fs::copy(models.join("mu.meta.json"), lone.join("mu.meta.json")).unwrap();
+    let mut into_lone = args.to_vec();
+    into_lone[4] = s(&lone);
+    let err = suspflow_err(&into_lone);
+    assert!(err.contains("mu.meta.json already exists"), "{err}");
     let mut forced = args.to_vec();
     forced.push("--force");
     suspflow_ok(&forced);

@@ -90,6 +90,7 @@ pub fn simulate(
         resume,
         interrupt: Some(&INTERRUPTED),
         code_version: crate::CODE_VERSION,
+        packing_progress: None,
     };
     let (send, receive) = mpsc::channel::<Report>();
     // Shared with the GIL-free wait, which must be `Send`.

@@ -2,7 +2,7 @@
 //! profiles stop drifting, averaging over the requested snapshots, with checkpoints
 //! that a resumed run continues from bit for bit.
 use crate::error::SimError;
-use crate::input::packing::random_packing;
+use crate::input::packing::random_packing_watched;
 use crate::input::scene::{Scene, SceneFile};
 use crate::integrate::particles::Particles;
 use crate::integrate::simulation::{Simulation, SystemState};
@@ -69,7 +69,7 @@ pub struct Progress {
 
 /// Options that do not change the physics.
 #[derive(Default)]
-pub struct RunOptions {
+pub struct RunOptions<'a> {
     /// Checkpoint file; none = no checkpoints.
     pub checkpoint: Option<PathBuf>,
     /// Continue from the checkpoint if it exists.
@@ -80,6 +80,9 @@ pub struct RunOptions {
     /// Version of the code, written into the summary (the caller's build stamp; empty when
     /// unstamped).
     pub code_version: &'static str,
+    /// Told the overlapping pairs left after every iteration of the initial packing
+    /// (which takes minutes for a million spheres), and polls the interrupt there too.
+    pub packing_progress: Option<&'a (dyn Fn(usize) + Sync)>,
 }
 
 /// The run's own progress (the system's state is kept by the [`Simulation`]).
@@ -182,9 +185,19 @@ pub fn binning_context(scene: &Scene) -> BinningContext {
 
 /// The initial state: a random non-overlapping packing at rest, from the scene's seed.
 pub fn initial_particles(scene: &Scene) -> Result<Particles, SimError> {
+    initial_particles_watched(scene, &mut |_| true)
+}
+
+/// [`initial_particles`], the packing watched by `watch` (see
+/// [`random_packing_watched`]: it is told the overlapping pairs left, and stops the
+/// packing by returning false).
+pub fn initial_particles_watched(
+    scene: &Scene,
+    watch: &mut dyn FnMut(usize) -> bool,
+) -> Result<Particles, SimError> {
     let radius = scene.particle_radii();
     let mut rng = rand::rngs::StdRng::seed_from_u64(scene.file.seed);
-    let pos = random_packing(&radius, scene.box_len, &mut rng, PACKING_GAP)?;
+    let pos = random_packing_watched(&radius, scene.box_len, &mut rng, PACKING_GAP, watch)?;
     Ok(Particles::at_rest(
         pos.into_iter().map(Vec3::from).collect(),
         radius,
@@ -348,6 +361,7 @@ pub fn run(
 ) -> Result<RunOutcome, SimError> {
     crate::input::scene_limits::check_driven(&scene.file)?;
     let started = Instant::now();
+    let interrupt_requested = || opts.interrupt.is_some_and(|f| f.load(Ordering::SeqCst));
     let resume_from = opts
         .checkpoint
         .as_ref()
@@ -397,10 +411,16 @@ pub fn run(
             }
             (sim, st)
         }
-        None => (
-            Simulation::new(scene, initial_particles(scene)?)?,
-            fresh_state(scene),
-        ),
+        None => {
+            let mut watch = |overlapping| {
+                if let Some(report) = opts.packing_progress {
+                    report(overlapping);
+                }
+                !interrupt_requested()
+            };
+            let particles = initial_particles_watched(scene, &mut watch)?;
+            (Simulation::new(scene, particles)?, fresh_state(scene))
+        }
     };
     let ctx = binning_context(scene);
     let r = &scene.file.run;
@@ -411,7 +431,6 @@ pub fn run(
     let wall_before = st.wall_s;
     let mut sums_scratch = vec![0.0; snapshot::field::FIELDS * scene.n_bins];
     let mut sampler = Sampler::new(ctx.bins, ctx.a_mean);
-    let interrupt_requested = || opts.interrupt.is_some_and(|f| f.load(Ordering::SeqCst));
     loop {
         while st.steps_into_sample < steps_per_sample {
             let chunk = (steps_per_sample - st.steps_into_sample).min(INTERRUPT_POLL_STEPS);

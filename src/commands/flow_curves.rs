@@ -44,6 +44,9 @@ pub struct Args {
     /// Output directory: flow_curves.csv, eta_r.svg, mu_J.svg, README.md.
     #[arg(long)]
     out: PathBuf,
+    /// Replace the files of an earlier run in `--out`.
+    #[arg(long)]
+    force: bool,
 }
 
 /// The fields of a homogeneous-shear scene's summary.json this command reads.
@@ -136,6 +139,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(path) => Some(local_viscosity::bands(path, &LOCAL_BANDS)?),
         None => None,
     };
+    let written =
+        ["README.md", "flow_curves.csv", "eta_r.svg", "mu_J.svg"].map(|f| args.out.join(f));
+    crate::output_guard::refuse_any_unless_force(
+        &written,
+        args.force,
+        "an earlier flow-curve result",
+        "choose another --out",
+    )?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     write_table(&args.out.join("flow_curves.csv"), &points)?;

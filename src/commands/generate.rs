@@ -296,6 +296,7 @@ fn run_scene(
         resume: true,
         interrupt: Some(&INTERRUPTED),
         code_version: crate::CODE_VERSION,
+        packing_progress: None,
     };
     let started = Instant::now();
     let mut last_line = Instant::now();

@@ -16,6 +16,9 @@ pub struct Args {
     /// The combined dataset.
     #[arg(long)]
     out: PathBuf,
+    /// Replace an existing `--out` (and the ensemble table beside it).
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -25,6 +28,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.out.display()
         );
     }
+    let [table, json] = ensemble_table::paths(&args.out);
+    crate::output_guard::refuse_any_unless_force(
+        &[args.out.clone(), table, json],
+        args.force,
+        "an earlier dataset or its ensemble table",
+        "choose another --out",
+    )?;
     let mut merged: Option<DatasetFile> = None;
     for path in &args.parts {
         let part = DatasetFile::read(path)?;

@@ -23,10 +23,26 @@ pub struct Args {
     /// Output table; standard output when absent.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Replace an existing `--out`.
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
+    if let Some(out) = &args.out {
+        anyhow::ensure!(
+            out != &args.input,
+            "--out {} is the --input; write the predictions to a new file",
+            out.display()
+        );
+        crate::output_guard::refuse_unless_force(
+            out,
+            args.force,
+            "an earlier table",
+            "choose another --out",
+        )?;
+    }
     let name = args
         .model
         .file_name()

@@ -92,21 +92,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     )?;
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
         .context("installing the Ctrl-C handler")?;
+    let bar = ProgressBar::new(1000);
+    bar.set_style(ProgressStyle::with_template(
+        "{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})",
+    )?);
+    let n = scene.n_particles();
+    let packing = |overlapping: usize| {
+        bar.set_message(format!(
+            "initial packing of {n} particles: {overlapping} pairs still overlap"
+        ));
+    };
     let opts = RunOptions {
         checkpoint: Some(checkpoint.clone()),
         resume: args.resume,
         interrupt: Some(&INTERRUPTED),
         code_version: crate::CODE_VERSION,
+        packing_progress: Some(&packing),
     };
     // A resumed run continues the frames of the run it resumes.
     let mut frames = args
         .snapshot
         .map(|every| FrameWriter::open(out, args.snapshot_format, every, resuming))
         .transpose()?;
-    let bar = ProgressBar::new(1000);
-    bar.set_style(ProgressStyle::with_template(
-        "{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})",
-    )?);
     let outcome = crate::threads::with_threads(args.threads, || {
         sim::run::run(&scene, &opts, &mut |p, sim| {
             match p.phase {
@@ -135,6 +142,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         frames.finish()?;
     }
     let outcome = match outcome {
+        Err(SimError::Interrupted { .. }) if !checkpoint.exists() => {
+            anyhow::bail!(
+                "interrupted during the initial packing; nothing to save (the packing is \
+                 drawn again from the scene's seed)"
+            )
+        }
         Err(SimError::Interrupted { step }) => {
             anyhow::bail!(
                 "interrupted at step {step}; state saved in {}; continue with --resume",

@@ -42,9 +42,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mappings = Mapping::select(&args.mappings)?;
     crate::output_guard::out_dir(&args.out)?;
     for mapping in &mappings {
-        let trees = args.out.join(format!("{}.json", mapping.name));
-        crate::output_guard::refuse_unless_force(
-            &trees,
+        // The trees and their sidecars (surrogate's model and tuning files): any one of
+        // them alone is a user's file too.
+        let files: Vec<PathBuf> = ["json", "meta.json", "domain.json", "tuning.json"]
+            .iter()
+            .map(|suffix| args.out.join(format!("{}.{suffix}", mapping.name)))
+            .collect();
+        crate::output_guard::refuse_any_unless_force(
+            &files,
             args.force,
             &format!("a trained `{}` model", mapping.name),
             "give another --out",

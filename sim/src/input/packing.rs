@@ -50,6 +50,20 @@ pub fn random_packing(
     rng: &mut impl Rng,
     min_gap: f64,
 ) -> Result<Vec<[f64; 3]>, SimError> {
+    random_packing_watched(radii, box_len, rng, min_gap, &mut |_| true)
+}
+
+/// [`random_packing`], calling `watch` with the number of overlapping pairs after every
+/// relaxation iteration (an iteration of a million spheres takes a fraction of a second,
+/// the relaxation up to [`MAX_ITERATIONS`] of them): the packing stops with
+/// [`SimError::Interrupted`] (at step 0) as soon as `watch` returns false.
+pub fn random_packing_watched(
+    radii: &[f64],
+    box_len: [f64; 3],
+    rng: &mut impl Rng,
+    min_gap: f64,
+    watch: &mut dyn FnMut(usize) -> bool,
+) -> Result<Vec<[f64; 3]>, SimError> {
     let fail = |message: String| Err(SimError::Packing(message));
     if radii.is_empty() {
         return fail("no particles".into());
@@ -109,7 +123,7 @@ pub fn random_packing(
         pairs: Vec::new(),
         reference: Vec::new(),
     };
-    relaxation.run(&mut x, phi)?;
+    relaxation.run(&mut x, phi, watch)?;
     Ok(x)
 }
 
@@ -140,7 +154,12 @@ struct Overlaps {
 
 impl Relaxation<'_> {
     /// FIRE 2.0 with semi-implicit Euler steps until no pair violates the clearance.
-    fn run(mut self, x: &mut [[f64; 3]], phi: f64) -> Result<(), SimError> {
+    fn run(
+        mut self,
+        x: &mut [[f64; 3]],
+        phi: f64,
+        watch: &mut dyn FnMut(usize) -> bool,
+    ) -> Result<(), SimError> {
         let n = x.len();
         let mut v = vec![[0.0; 3]; n];
         let mut f = vec![[0.0; 3]; n];
@@ -149,6 +168,9 @@ impl Relaxation<'_> {
             let overlaps = self.forces(x, &mut f);
             if overlaps.violations == 0 {
                 return Ok(());
+            }
+            if !watch(overlaps.violations) {
+                return Err(SimError::Interrupted { step: 0 });
             }
             let f_sq: f64 = f.iter().map(|fi| dot(fi, fi)).sum();
             if f_sq < JAMMED_FORCE_RATIO * 2.0 * overlaps.energy {
@@ -366,6 +388,25 @@ mod tests {
     use rand::SeedableRng;
 
     const GAP: f64 = 2e-3;
+
+    #[test]
+    fn the_watch_sees_the_overlaps_of_every_iteration_and_stops_the_packing() {
+        let (radii, box_len) = scene(400, 1.4, 0.55);
+        let mut seen = Vec::new();
+        let stopped = random_packing_watched(
+            &radii,
+            box_len,
+            &mut StdRng::seed_from_u64(1),
+            GAP,
+            &mut |overlapping| {
+                seen.push(overlapping);
+                seen.len() < 3
+            },
+        );
+        assert!(matches!(stopped, Err(SimError::Interrupted { step: 0 })));
+        assert_eq!(seen.len(), 3);
+        assert!(seen.iter().all(|&o| o > 0), "{seen:?}");
+    }
 
     /// Bidisperse radii 1 and `ratio` in equal numbers, in a box with `L_y = 2 L_x = 2 L_z`
     /// sized for volume fraction `phi`.

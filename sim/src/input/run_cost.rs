@@ -65,14 +65,14 @@ impl RunCost {
     pub fn check(&self) -> Result<Option<String>, SimError> {
         let s = self.seconds();
         let what = format!(
-            "{} steps per unit strain, at most {} particle-steps, about {} here at {} \
+            "{:.2e} steps per unit strain, at most {:.2e} particle-steps, about {} here at {} \
              particle-steps/s",
-            show(self.steps_per_strain.round()),
-            show((self.equilibration_particle_steps + self.averaging_particle_steps).round()),
+            self.steps_per_strain,
+            self.equilibration_particle_steps + self.averaging_particle_steps,
             Self::describe(s),
             show(PARTICLE_STEPS_PER_S)
         );
-        if !(s <= REFUSE_SECONDS) {
+        if !(..=REFUSE_SECONDS).contains(&s) {
             return Err(SimError::field(
                 "run",
                 format!(

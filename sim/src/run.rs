@@ -553,7 +553,7 @@ pub fn run(
     // measures the thermal noise, not the dynamics.
     if let Some(residual) = summary
         .momentum_residual
-        .filter(|r| scene.thermal.is_none() && !(*r <= MOMENTUM_RESIDUAL_MAX))
+        .filter(|r| scene.thermal.is_none() && !(..=MOMENTUM_RESIDUAL_MAX).contains(r))
     {
         return Err(SimError::MomentumImbalance {
             residual,

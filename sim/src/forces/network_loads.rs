@@ -128,3 +128,109 @@ pub fn add_dissipative_loads(
         *t += o[1];
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::forces::drag;
+    use crate::forces::lubrication::LubricationCoefficients;
+    use nalgebra::{DMatrix, DVector};
+
+    /// Five spheres of radii 1 and 1.4 with six lubricated pairs (one of them between the
+    /// two ranges 0..3 and 3..5), at gaps from below xi_min to near xi_max.
+    fn cluster() -> (Particles, ResistanceNetwork) {
+        let radius = vec![1.0, 1.4, 1.0, 1.4, 1.0];
+        let pos = vec![Vec3::zeros(); 5];
+        let mut p = Particles::at_rest(pos, radius.clone(), vec![0, 1, 0, 1, 0], 0.1);
+        p.id = vec![7, 2, 9, 4, 0];
+        let mut net = ResistanceNetwork::default();
+        net.reset(&[0, 3, 5]);
+        let pairs = [
+            (0, 1, 5e-4),
+            (0, 2, 2e-3),
+            (1, 2, 0.01),
+            (1, 3, 0.03),
+            (2, 4, 0.049),
+            (3, 4, 0.005),
+        ];
+        for (m, &(i, j, xi)) in pairs.iter().enumerate() {
+            let lub = LubricationCoefficients::new(radius[i], radius[j], 0.1, 1e-3, 0.05);
+            let n = Vec3::new(1.0, 0.3 * m as f64, -0.2 * m as f64 + 0.1).normalize();
+            let k = usize::from(i >= 3);
+            net.chunks[k].push(ResistancePair {
+                i: i as u32,
+                j: j as u32,
+                n,
+                resistance: lub.resistance(xi).unwrap(),
+            });
+        }
+        net.index_crossings();
+        (p, net)
+    }
+
+    /// The total random load of a cluster over 1e6 draws has covariance
+    /// `(2 kT / dt) (D + R)`, with `R` assembled independently from the network's product
+    /// (column by column on unit motions) and `D` the drag: every entry within 5 of its
+    /// standard errors `sqrt((C_aa C_bb + C_ab^2) / n)` (n = 1e6: 0.14 % of the diagonal).
+    #[test]
+    fn cluster_noise_has_the_covariance_of_the_resistance() {
+        let (p, net) = cluster();
+        let (kt, dt, eta) = (0.3, 0.01, 0.1);
+        let noise = ThermalNoise::new(kt, dt, 8);
+        let dim = 6 * p.len();
+        let mut expected = DMatrix::<f64>::zeros(dim, dim);
+        let mut out = vec![Motion::default(); p.len()];
+        for c in 0..dim {
+            let mut motion = vec![Motion::default(); p.len()];
+            motion[c / 6][(c % 6) / 3][c % 3] = 1.0;
+            for k in 0..2 {
+                let (a, b) = (net.bounds[k], net.bounds[k + 1]);
+                net.product_on(k, &motion, &mut out[a..b]);
+            }
+            for (m, o) in out.iter().enumerate() {
+                for r in 0..6 {
+                    expected[(6 * m + r, c)] = o[r / 3][r % 3];
+                }
+            }
+            let (m, rotation) = (c / 6, (c % 6) >= 3);
+            let a = p.radius[m];
+            expected[(c, c)] += if rotation {
+                drag::rotational_resistance(eta, a)
+            } else {
+                drag::translational_resistance(eta, a)
+            };
+        }
+        expected *= 2.0 * kt / dt;
+        let draws = 1_000_000u64;
+        let mut outer = DMatrix::<f64>::zeros(dim, dim);
+        let mut v = DVector::<f64>::zeros(dim);
+        for step in 0..draws {
+            let draw = Draw {
+                noise: &noise,
+                particles: &p,
+                step,
+            };
+            brownian_loads(draw, &net, Some(eta), &mut out);
+            for (m, o) in out.iter().enumerate() {
+                for r in 0..6 {
+                    v[6 * m + r] = o[r / 3][r % 3];
+                }
+            }
+            outer.ger(1.0, &v, &v, 1.0);
+        }
+        let n = draws as f64;
+        let sampled = outer / n;
+        for a in 0..dim {
+            for b in 0..dim {
+                let se =
+                    ((expected[(a, a)] * expected[(b, b)] + expected[(a, b)].powi(2)) / n).sqrt();
+                assert!(
+                    (sampled[(a, b)] - expected[(a, b)]).abs() < 5.0 * se,
+                    "entry ({a}, {b}): sampled {:e}, expected {:e}, se {se:e}",
+                    sampled[(a, b)],
+                    expected[(a, b)]
+                );
+            }
+        }
+    }
+}

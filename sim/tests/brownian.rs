@@ -18,19 +18,6 @@ fn scene(box_len: f64, phi: f64, extra: &str) -> Scene {
     Scene::from_toml(&text, false).expect("valid test scene")
 }
 
-/// Kinetic temperatures (translational, rotational) over kT of one configuration.
-fn temperatures(s: &Simulation, kt: f64) -> (f64, f64) {
-    let p = &s.particles;
-    let n = p.len() as f64;
-    let trans: f64 = (0..p.len())
-        .map(|i| p.mass[i] * p.vel[i].norm_squared())
-        .sum();
-    let rot: f64 = (0..p.len())
-        .map(|i| p.inertia(i) * p.omega[i].norm_squared())
-        .sum();
-    (trans / (3.0 * n * kt), rot / (3.0 * n * kt))
-}
-
 /// Runs `steps` steps after `warmup`, returning the mean kinetic temperatures over kT and
 /// every particle's unwrapped displacement since the end of the warm-up at each multiple
 /// of `every` steps (by identity).
@@ -46,7 +33,7 @@ fn sample(s: &mut Simulation, kt: f64, warmup: u64, steps: u64, every: u64) -> S
     let mut tracks = Vec::new();
     for k in 1..=steps {
         s.step().expect("stable run");
-        let (t, r) = temperatures(s, kt);
+        let (t, r) = s.particles.kinetic_temperatures(kt);
         trans += t;
         rot += r;
         for (id, x) in s.particles.id.iter().zip(&s.particles.pos) {

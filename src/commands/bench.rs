@@ -52,12 +52,15 @@ pub struct Args {
     /// timed window.
     #[arg(long)]
     brownian: bool,
-    /// With --brownian: the timed window and the warm-up before it, in Brownian times.
-    #[arg(long, value_delimiter = ',', num_args = 2, default_values_t = [1.0, 2.0], value_parser = parse_positive)]
-    tau_b_windows: Vec<f64>,
+    /// With --brownian: the untimed warm-up, in Brownian times tau_B.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true, value_parser = parse_positive)]
+    warmup_tau_b: f64,
+    /// With --brownian: the timed window, in Brownian times tau_B.
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true, value_parser = parse_positive)]
+    window_tau_b: f64,
     /// With --brownian: the peer's measured wall seconds per tau_B (its `brownian.sh`
     /// prints `wall_per_tau_B`); each record then gives the peer's time over ours.
-    #[arg(long, value_parser = parse_positive)]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_positive)]
     lammps_s_per_tau_b: Option<f64>,
 }
 

@@ -97,6 +97,18 @@ impl Particles {
             .sum()
     }
 
+    /// Translational and rotational kinetic temperatures over `kt`:
+    /// `sum m v^2 / (3 N kT)` and `sum I omega^2 / (3 N kT)` (1 is equipartition).
+    pub fn kinetic_temperatures(&self, kt: f64) -> (f64, f64) {
+        let dof = 3.0 * self.len() as f64 * kt;
+        let (mut trans, mut rot) = (0.0, 0.0);
+        for i in 0..self.len() {
+            trans += self.mass[i] * self.vel[i].norm_squared();
+            rot += self.inertia(i) * self.omega[i].norm_squared();
+        }
+        (trans / dof, rot / dof)
+    }
+
     /// Total solid volume.
     pub fn solid_volume(&self) -> f64 {
         self.radius.iter().map(|a| 4.0 / 3.0 * PI * a.powi(3)).sum()

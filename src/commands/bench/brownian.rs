@@ -58,18 +58,6 @@ fn scene(n: usize, integrator: Integrator) -> anyhow::Result<Scene> {
     Ok(Scene::from_file(f, false)?)
 }
 
-/// Translational and rotational kinetic temperatures over kT of the current state.
-fn temperatures(sim: &Simulation) -> (f64, f64) {
-    let p = &sim.particles;
-    let dof = 3.0 * p.len() as f64 * KT;
-    let (mut trans, mut rot) = (0.0, 0.0);
-    for i in 0..p.len() {
-        trans += p.mass[i] * p.vel[i].norm_squared();
-        rot += p.inertia(i) * p.omega[i].norm_squared();
-    }
-    (trans / dof, rot / dof)
-}
-
 fn measure(
     n: usize,
     threads: usize,
@@ -79,7 +67,7 @@ fn measure(
     let scene = scene(n, integrator)?;
     let tau_b = scene.thermal.map_or(f64::NAN, |t| t.tau_b);
     let particles = initial_particles(&scene)?;
-    let (warmup, window) = (args.tau_b_windows[0], args.tau_b_windows[1]);
+    let (warmup, window) = (args.warmup_tau_b, args.window_tau_b);
     crate::threads::with_threads(threads, || -> anyhow::Result<Record> {
         let mut sim = Simulation::new(&scene, particles)?;
         let dt = sim.timestep.dt;
@@ -92,7 +80,7 @@ fn measure(
         let t = Instant::now();
         for _ in 0..steps {
             sim.step()?;
-            let (tt, tr) = temperatures(&sim);
+            let (tt, tr) = sim.particles.kinetic_temperatures(KT);
             trans += tt;
             rot += tr;
         }

@@ -3,7 +3,7 @@
 use crate::error::Error;
 use pyo3::prelude::*;
 use sim::input::memory_estimate;
-use sim::{SceneFile, SimError, TimeStep};
+use sim::{SceneFile, SimError};
 use std::path::PathBuf;
 
 /// A validated scene.
@@ -59,7 +59,7 @@ impl Scene {
     /// --check`).
     fn check(&self) -> String {
         let s = &self.inner;
-        let t = TimeStep::for_scene(s);
+        let t = s.timestep;
         let r = &s.file.run;
         serde_json::json!({
             "name": s.file.name,

@@ -11,7 +11,7 @@
 //! `cargo run --release -p sim --example fork_join_ceiling -- [particles] [passes]`
 //! (default 10000 and 20000: passes of about 110 us on one thread, as the solve's at
 //! N = 4000).
-use sim::integrate::particle_ranges::over_ranges;
+use sim::state::particle_ranges::over_ranges;
 use std::time::Instant;
 
 /// Arithmetic steps per particle.

@@ -2,15 +2,15 @@
 //! Physics: `docs/physics.md` in the repository; equation numbers are the thesis' (chapters
 //! 3 and 6).
 //!
-//! Data flow, one folder per stage: [`input`] (scene file -> [`Scene`], grids of scenes, the
-//! flow profile u_inf(y), the initial packing) -> [`neighbours`] (cell and Verlet lists) ->
-//! [`forces`] (contact, drag, lubrication, summed over the list) -> [`integrate`] (the
-//! [`Simulation`] and its time step) -> [`sampling`] (bins, snapshot sums, [`BinAverages`],
-//! steady state) -> [`output`] (tables, summary, frames, checkpoints); [`run`] drives a scene
-//! from start to its averaged steady state.
-
-/// Small 3-vectors (units of a, a/time, ...).
-pub type Vec3 = nalgebra::Vector3<f64>;
+//! Data flow, one folder per stage, each importing only from the stages before it:
+//! [`state`] (the floor: [`Vec3`], the particle arrays, the periodic box, the particle
+//! ranges) -> [`input`] (scene file -> [`Scene`], grids of scenes, the flow profile
+//! u_inf(y), the initial packing) -> [`neighbours`] (cell and Verlet lists) -> [`forces`]
+//! (contact, drag, lubrication, summed over the list) -> [`integrate`] (the [`Simulation`]
+//! and its time step) -> [`sampling`] (bins, snapshot sums, [`BinAverages`], steady state)
+//! -> [`output`] (tables, summary, frames, checkpoints); [`run`] drives a scene from start
+//! to its averaged steady state, and [`run_length`] samples one run for the study of
+//! error against run length.
 
 pub mod error;
 pub mod forces;
@@ -19,7 +19,9 @@ pub mod integrate;
 pub mod neighbours;
 pub mod output;
 pub mod run;
+pub mod run_length;
 pub mod sampling;
+pub mod state;
 
 pub use error::SimError;
 pub use input::flow_profile::FlowProfile;
@@ -29,3 +31,4 @@ pub use integrate::simulation::Simulation;
 pub use integrate::timestep::{DtLimit, TimeStep};
 pub use run::{RunOptions, RunOutcome, RunSummary};
 pub use sampling::bin_averages::BinAverages;
+pub use state::Vec3;

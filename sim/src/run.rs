@@ -4,21 +4,20 @@
 use crate::error::SimError;
 use crate::input::packing::random_packing_watched;
 use crate::input::scene::{Scene, SceneFile};
-use crate::integrate::particles::Particles;
 use crate::integrate::simulation::{Simulation, SystemState};
 use crate::integrate::stage_timers::Stage;
 use crate::integrate::timestep::TimeStep;
 use crate::output::checkpoint;
 use crate::output::result_files::SNAPSHOT_SUMS;
 use crate::sampling::bin_averages::{BinAverages, BinningContext};
-use crate::sampling::binning::Bins;
 use crate::sampling::block_sums::BlockSums;
 use crate::sampling::conventions::Conventions;
 use crate::sampling::shear_rheology::ShearRheology;
 use crate::sampling::snapshot::{self, Sampler};
 use crate::sampling::steady_state::{Drift, SteadyState};
 use crate::sampling::stress_checks::{stress_checks, StressChecks};
-use crate::Vec3;
+use crate::state::particles::Particles;
+use crate::state::Vec3;
 use rand::SeedableRng;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -160,27 +159,6 @@ pub struct RunOutcome {
     pub summary: RunSummary,
     /// The averaged snapshot sums, from which the profile under any convention follows.
     pub sums: BlockSums,
-}
-
-/// Constants turning snapshot sums of `scene` into observables.
-pub fn binning_context(scene: &Scene) -> BinningContext {
-    let [l_x, _, l_z] = scene.box_len;
-    let w = scene.file.run.bin_width;
-    let bins = Bins::new(w, scene.n_bins);
-    BinningContext {
-        bins,
-        bin_volume: l_x * w * l_z,
-        face_area: l_x * l_z,
-        eta: scene.file.fluid.eta,
-        a_mean: scene.mean_radius(),
-        u_inf: (0..scene.n_bins)
-            .map(|k| scene.profile.u(bins.centre(k)))
-            .collect(),
-        conventions: scene.file.observables,
-        image_velocity: scene
-            .shear_rate()
-            .map_or(0.0, |gdot| gdot * scene.box_len[1]),
-    }
 }
 
 /// The initial state: a random non-overlapping packing at rest, from the scene's seed.
@@ -422,7 +400,7 @@ pub fn run(
             (Simulation::new(scene, particles)?, fresh_state(scene))
         }
     };
-    let ctx = binning_context(scene);
+    let ctx = BinningContext::for_scene(scene);
     let r = &scene.file.run;
     let gdot = scene.clock_rate();
     let steps_per_sample = ((r.sample_strain / (gdot * sim.timestep.dt)).round() as u64).max(1);

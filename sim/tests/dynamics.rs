@@ -3,8 +3,8 @@
 use rand::{Rng, SeedableRng};
 use sim::forces::lubrication::LubricationCoefficients;
 use sim::input::scene::Scene;
-use sim::integrate::particles::Particles;
 use sim::integrate::simulation::Simulation;
+use sim::state::particles::Particles;
 use sim::Vec3;
 use std::f64::consts::PI;
 

@@ -4,11 +4,11 @@
 //! update, and the stability bound of a lubricated contact.
 use rand::{Rng, SeedableRng};
 use sim::forces::lubrication::{gap, LubricationCoefficients};
+use sim::input::integrator::Integrator;
 use sim::input::scene::Scene;
-use sim::integrate::integrator::Integrator;
-use sim::integrate::particles::Particles;
 use sim::integrate::simulation::Simulation;
-use sim::integrate::timestep::{damped_spring_limit, TimeStep};
+use sim::integrate::timestep::damped_spring_limit;
+use sim::state::particles::Particles;
 use sim::Vec3;
 use std::f64::consts::PI;
 
@@ -61,7 +61,7 @@ fn reference_gaps(xi0: f64, f: f64, every: f64, samples: usize) -> Vec<f64> {
 fn squeeze_follows_the_reference_solution_at_100_times_the_explicit_step() {
     let forces = "contact = false\ndrag = false";
     let explicit = scene(forces, "integrator = \"explicit\"");
-    let old_limit = TimeStep::for_scene(&explicit).dt;
+    let old_limit = explicit.timestep.dt;
     let (xi0, f) = (0.04, 0.05);
     for factor in [10.0, 100.0] {
         let dt = factor * old_limit;

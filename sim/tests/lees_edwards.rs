@@ -5,10 +5,10 @@
 use rand::{Rng, SeedableRng};
 use sim::forces::force_field::ForceField;
 use sim::input::scene::Scene;
-use sim::integrate::particles::Particles;
-use sim::integrate::periodic_box::PeriodicBox;
 use sim::integrate::simulation::Simulation;
 use sim::run::{run, RunOptions};
+use sim::state::particles::Particles;
+use sim::state::periodic_box::PeriodicBox;
 use sim::Vec3;
 use std::path::PathBuf;
 
@@ -172,7 +172,7 @@ fn the_integrator_remaps_a_particle_crossing_a_y_face() {
 
 /// Load on particle 0 of a pair of unit spheres at `x_0`, `x_1` with velocities `v_0`, `v_1`.
 fn pair_force(scene: &Scene, pbox: &PeriodicBox, x: [Vec3; 2], v: [Vec3; 2]) -> Vec3 {
-    let field = ForceField::from_scene(scene);
+    let field = ForceField::from_file(&scene.file);
     let mut p = Particles::at_rest(x.to_vec(), vec![1.0, 1.0], vec![0, 0], 1.0);
     p.vel = v.to_vec();
     field

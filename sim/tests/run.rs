@@ -325,9 +325,8 @@ fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
     file.run.snapshots = 4;
     file.run.blocks = 2;
     let scene = Scene::from_file(file, false).unwrap();
-    let steps_per_sample = (scene.file.run.sample_strain
-        / (scene.gdot_max() * sim::integrate::timestep::TimeStep::for_scene(&scene).dt))
-        .round() as u64;
+    let steps_per_sample =
+        (scene.file.run.sample_strain / (scene.gdot_max() * scene.timestep.dt)).round() as u64;
     assert!(
         steps_per_sample > 1000,
         "{steps_per_sample} steps per sample"
@@ -366,7 +365,7 @@ fn each_convention_changes_only_the_observables_it_defines() {
     use sim::sampling::convention_effects::{convention_effects, COMPARED};
     let scene = tiny();
     let out = on_threads(1, || run(&scene, &RunOptions::default(), &mut |_, _| {})).unwrap();
-    let ctx = sim::run::binning_context(&scene);
+    let ctx = sim::sampling::bin_averages::BinningContext::for_scene(&scene);
     let effects = convention_effects(&ctx, &out.sums).unwrap();
     assert_eq!(effects.len(), 5);
     for effect in &effects {

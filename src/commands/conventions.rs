@@ -7,8 +7,7 @@
 use anyhow::Context;
 use sim::input::scene::Scene;
 use sim::output::result_files::{SnapshotSums, SNAPSHOT_SUMS};
-use sim::run::binning_context;
-use sim::sampling::bin_averages::BinAverages;
+use sim::sampling::bin_averages::{BinAverages, BinningContext};
 use sim::sampling::convention_effects::{convention_effects, COMPARED};
 use sim::sampling::stress_checks::stress_checks;
 use std::fmt::Write as _;
@@ -42,7 +41,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let name = sums.scene.name.clone();
         let scene = Scene::from_file(sums.scene, false)
             .with_context(|| format!("the scene of {}", dir.display()))?;
-        let ctx = binning_context(&scene);
+        let ctx = BinningContext::for_scene(&scene);
         for effect in convention_effects(&ctx, &sums.sums)? {
             match pooled.iter_mut().find(|(o, _)| *o == effect.option) {
                 Some((_, all)) => all

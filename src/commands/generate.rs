@@ -26,7 +26,6 @@ use crate::scene_work::{SceneStatus, SceneSummary, SceneWork};
 use anyhow::{bail, Context};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use sim::input::grid::{Grid, GridRun};
-use sim::integrate::timestep::TimeStep;
 use sim::run::{Phase, RunOptions};
 use sim::SimError;
 use std::path::{Path, PathBuf};
@@ -90,7 +89,7 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
 fn cost(scene: &sim::input::scene::Scene) -> f64 {
     let r = &scene.file.run;
     let strain = r.max_strain.min(10.0) + r.sample_strain * r.snapshots as f64;
-    TimeStep::for_scene(scene).steps_per_strain(scene) * strain * scene.n_particles() as f64
+    scene.timestep.steps_per_strain(scene) * strain * scene.n_particles() as f64
 }
 
 /// Paths of the outputs.
@@ -492,7 +491,7 @@ fn print_check(scenes: &[&GridRun]) {
             s.file.particles.phi,
             s.rho,
             s.stokes,
-            TimeStep::for_scene(s).dt,
+            s.timestep.dt,
             c,
             s.profile.expr()
         );

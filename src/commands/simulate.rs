@@ -202,9 +202,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// Derived quantities of a valid scene.
 fn print_check(scene: &Scene) -> anyhow::Result<()> {
     sim::input::scene_limits::check_driven(&scene.file)?;
-    let t = sim::integrate::timestep::TimeStep::for_scene(scene);
+    let t = scene.timestep;
     let r = &scene.file.run;
-    let cost = RunCost::new(scene, &t);
+    let cost = RunCost::new(scene);
     println!("scene `{}` is valid", scene.file.name);
     println!(
         "particles: {} (species counts {:?}), phi = {:.4}",

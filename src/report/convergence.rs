@@ -8,7 +8,7 @@
 //! until n approaches the reference length.
 use schema::Observable;
 use sim::input::scene::Scene;
-use sim::sampling::run_length::{self, PartialAverage, SampledRun};
+use sim::run_length::{self, PartialAverage, SampledRun};
 use sim::SimError;
 
 /// Observables whose error is measured.
@@ -43,7 +43,7 @@ pub fn relative_l2(a: &[f64], b: &[f64], offset: f64) -> f64 {
 }
 
 /// Runs `scene` (its `run.snapshots` and `run.blocks` are replaced) to the steady state,
-/// then `partial + reference` snapshots (`sim::sampling::run_length`), and measures the
+/// then `partial + reference` snapshots (`sim::run_length`), and measures the
 /// partial averages against the reference. `partial` must be a multiple of 4 and
 /// `reference` of 10.
 pub fn run(scene: &Scene, partial: usize, reference: usize) -> Result<ConvergenceRun, SimError> {

@@ -3,9 +3,8 @@
 //! the automatic time step. Each case is a short run through the ordinary `sim::run`, so
 //! the blow-up checks under test are the real ones.
 use rayon::prelude::*;
+use sim::input::integrator::Integrator;
 use sim::input::scene::{Scene, SceneFile};
-use sim::integrate::integrator::Integrator;
-use sim::integrate::timestep::TimeStep;
 use sim::run::RunOptions;
 use sim::SimError;
 
@@ -167,13 +166,12 @@ fn run_case(case: Case, size: SweepSize) -> CaseResult {
             return result;
         }
     };
-    let t = TimeStep::for_scene(&scene);
+    let t = scene.timestep;
     let mut explicit = scene.file.clone();
     explicit.run.integrator = Integrator::Explicit;
     explicit.run.dt_factor = 1.0;
-    let gain = Scene::from_file(explicit, false).map_or(f64::NAN, |e| {
-        t.dt / result.case.dt_factor / TimeStep::for_scene(&e).dt
-    });
+    let gain = Scene::from_file(explicit, false)
+        .map_or(f64::NAN, |e| t.dt / result.case.dt_factor / e.timestep.dt);
     (result.dt, result.dt_limit) = (t.dt, format!("{}, {gain:.0}x explicit", t.limit));
     match sim::run::run(&scene, &RunOptions::default(), &mut |_, _| {}) {
         Ok(out) => {

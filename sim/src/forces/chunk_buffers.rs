@@ -2,8 +2,8 @@
 //! into the output, chunk k >= 1 into its own buffer covering particles from its first
 //! row on (a half list has j > i), and the buffers are added in chunk order, so the same
 //! chunking always gives the same bits.
-use crate::integrate::particle_ranges::each_range;
-use crate::Vec3;
+use crate::state::particle_ranges::each_range;
+use crate::state::Vec3;
 
 /// Buffers (forces, torques) of the chunks after the first, reused from call to call (no
 /// allocation once they have grown to size).

@@ -1,6 +1,6 @@
 //! Linear-spring contact between overlapping spheres (thesis eqs 3.3, 3.4; docs/physics.md section 4).
 use crate::forces::pair_load::PairLoad;
-use crate::Vec3;
+use crate::state::Vec3;
 
 /// Contact law parameters: normal stiffness `k_n` (force per unit overlap, units eta a /
 /// time in the default unit system), tangential stiffness `k_t = 2/7 k_n`, and the

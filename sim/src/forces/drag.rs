@@ -1,6 +1,6 @@
 //! One-body Stokes drag towards the local streaming flow (thesis eqs 3.5, 3.6; docs/physics.md
 //! sections 2 and 4) and the single-particle drag stresslet.
-use crate::Vec3;
+use crate::state::Vec3;
 use std::f64::consts::PI;
 
 /// Translational drag `F = 6 pi eta a (U_inf(y) - v)` with `U_inf = (u(y), 0, 0)` (3.5).

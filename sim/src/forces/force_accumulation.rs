@@ -5,11 +5,11 @@ use crate::forces::chunk_buffers::{zero_buffer, ChunkBuffers, ChunkTarget};
 use crate::forces::force_field::ForceField;
 use crate::forces::resistance_network::{ResistanceNetwork, ResistancePair};
 use crate::input::flow_profile::FlowProfile;
-use crate::integrate::particle_ranges::each_range;
-use crate::integrate::particles::Particles;
-use crate::integrate::periodic_box::PeriodicBox;
 use crate::neighbours::verlet_list::VerletList;
-use crate::Vec3;
+use crate::state::particle_ranges::each_range;
+use crate::state::particles::Particles;
+use crate::state::periodic_box::PeriodicBox;
+use crate::state::Vec3;
 use rayon::prelude::*;
 
 /// Below this many particles the pair loop runs on one thread: the per-step fork and the

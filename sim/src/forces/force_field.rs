@@ -5,10 +5,10 @@ use crate::forces::drag;
 use crate::forces::lubrication::{gap, LubricationCoefficients, PairResistance};
 use crate::forces::pair_load::PairLoad;
 use crate::input::flow_profile::FlowProfile;
-use crate::input::scene::Scene;
-use crate::integrate::particles::Particles;
-use crate::integrate::periodic_box::PeriodicBox;
-use crate::Vec3;
+use crate::input::scene::SceneFile;
+use crate::state::particles::Particles;
+use crate::state::periodic_box::PeriodicBox;
+use crate::state::Vec3;
 
 /// Constants of one ordered species pair.
 #[derive(Clone, Copy, Debug)]
@@ -50,11 +50,11 @@ pub struct ForceField {
 }
 
 impl ForceField {
-    /// Force terms and pair constants of a validated scene.
-    pub fn from_scene(scene: &Scene) -> Self {
-        let f = &scene.file.forces;
-        let eta = scene.file.fluid.eta;
-        let radii = &scene.file.particles.radii;
+    /// Force terms and pair constants of a validated scene's file.
+    pub fn from_file(file: &SceneFile) -> Self {
+        let f = &file.forces;
+        let eta = file.fluid.eta;
+        let radii = &file.particles.radii;
         let n_species = radii.len();
         let mut pairs = Vec::with_capacity(n_species * n_species);
         let mut max_cutoff: f64 = 0.0;
@@ -64,11 +64,7 @@ impl ForceField {
                 let lubrication = f
                     .lubrication
                     .then(|| LubricationCoefficients::new(a_i, a_j, eta, f.xi_min, f.xi_max));
-                let reach = if f.lubrication {
-                    contact_distance * (1.0 + 0.5 * f.xi_max)
-                } else {
-                    contact_distance
-                };
+                let reach = f.reach(contact_distance);
                 max_cutoff = max_cutoff.max(reach);
                 pairs.push(PairConstants {
                     contact_distance,

@@ -1,7 +1,7 @@
 //! Kim-Karrila near-field lubrication between two unequal spheres (thesis eqs 3.8-3.18,
 //! docs/physics.md section 4), regularised at the inner gap `xi_min` and cut off at `xi_max`.
 use crate::forces::pair_load::PairLoad;
-use crate::Vec3;
+use crate::state::Vec3;
 use std::f64::consts::PI;
 
 /// Gap-independent prefactors of the resistance functions for one ordered pair of radii

@@ -7,9 +7,9 @@ use crate::forces::force_field::ForceField;
 use crate::forces::resistance_network::{Motion, ResistanceNetwork, ResistancePair};
 use crate::forces::thermal_noise::ThermalNoise;
 use crate::input::flow_profile::FlowProfile;
-use crate::integrate::particle_ranges::each_range;
-use crate::integrate::particles::Particles;
-use crate::Vec3;
+use crate::state::particle_ranges::each_range;
+use crate::state::particles::Particles;
+use crate::state::Vec3;
 
 /// One step's draw of Brownian loads: the keyed noise, the particles (identities and
 /// radii) and the step.

@@ -1,5 +1,5 @@
 //! What one pair interaction puts on its two particles.
-use crate::Vec3;
+use crate::state::Vec3;
 use nalgebra::Matrix3;
 
 /// Force and torques of one pair law. The force on j is `-force_i` (equal and opposite,

@@ -9,7 +9,7 @@
 //! both ranges, each keeping its own particle's share. No per-thread buffers, no
 //! reduction pass, and a range's rows stay in the cache of the thread that owns them.
 use crate::forces::lubrication::PairResistance;
-use crate::Vec3;
+use crate::state::Vec3;
 use nalgebra::Matrix3;
 use rayon::prelude::*;
 

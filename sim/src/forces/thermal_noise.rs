@@ -12,7 +12,7 @@
 use crate::forces::drag;
 use crate::forces::lubrication::PairResistance;
 use crate::forces::pair_load::PairLoad;
-use crate::Vec3;
+use crate::state::Vec3;
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

@@ -14,6 +14,7 @@
 //! Lengths are in the units of `radii` and `box_len` (the small radius `a` by convention).
 
 use crate::error::SimError;
+use crate::state::particles::sphere_volume;
 use rand::Rng;
 
 /// Extra inflation of the contact distance beyond `min_gap / 2` (relative to `a_i + a_j`),
@@ -98,10 +99,7 @@ pub fn random_packing_watched(
         ));
     }
     let volume = box_len.iter().product::<f64>();
-    let solid: f64 = radii
-        .iter()
-        .map(|a| 4.0 / 3.0 * std::f64::consts::PI * a.powi(3))
-        .sum();
+    let solid: f64 = radii.iter().map(|&a| sphere_volume(a)).sum();
     let phi = solid / volume;
     if phi * inflation.powi(3) >= 1.0 {
         return fail(format!(
@@ -414,10 +412,7 @@ mod tests {
         let radii: Vec<f64> = (0..n)
             .map(|i| if i % 2 == 0 { 1.0 } else { ratio })
             .collect();
-        let solid: f64 = radii
-            .iter()
-            .map(|a| 4.0 / 3.0 * std::f64::consts::PI * a.powi(3))
-            .sum();
+        let solid: f64 = radii.iter().map(|&a| sphere_volume(a)).sum();
         let l = (solid / phi / 2.0).cbrt();
         (radii, [l, 2.0 * l, l])
     }

@@ -4,7 +4,6 @@
 use crate::error::SimError;
 use crate::input::scene::Scene;
 use crate::input::scene_limits::show;
-use crate::integrate::timestep::TimeStep;
 
 /// Particle-steps per second of a run here (2 cores): the validation scenes of the full
 /// report ran at 9.0-9.3e5 (README, Report), rounded up so that estimates err short.
@@ -30,10 +29,10 @@ pub struct RunCost {
 }
 
 impl RunCost {
-    /// The cost of `scene` at the step `timestep`.
-    pub fn new(scene: &Scene, timestep: &TimeStep) -> RunCost {
+    /// The cost of `scene` at its time step.
+    pub fn new(scene: &Scene) -> RunCost {
         let r = &scene.file.run;
-        let steps_per_strain = timestep.steps_per_strain(scene);
+        let steps_per_strain = scene.timestep.steps_per_strain(scene);
         let n = scene.n_particles() as f64;
         RunCost {
             steps_per_strain,

@@ -2,16 +2,16 @@
 //! field by field, with the derived quantities a run needs (N, Stokes number, bins).
 use crate::error::SimError;
 use crate::input::flow_profile::FlowProfile;
+use crate::input::integrator::Integrator;
 use crate::input::memory_estimate;
 use crate::input::run_cost::RunCost;
 use crate::input::scene_limits::{self, show, PHI_MAX};
 use crate::input::scene_name;
 use crate::input::thermal_scales::ThermalScales;
-use crate::integrate::integrator::Integrator;
 use crate::integrate::timestep::TimeStep;
 use crate::sampling::conventions::Conventions;
+use crate::state::particles::sphere_volume;
 use serde::{Deserialize, Serialize};
-use std::f64::consts::PI;
 use std::path::Path;
 
 /// The scene file as written by the user; every field but the box, `phi` and the
@@ -117,6 +117,20 @@ pub struct ForceSection {
     /// Lubrication outer cut-off of the dimensionless gap.
     #[serde(default = "default_xi_max")]
     pub xi_max: f64,
+}
+
+impl ForceSection {
+    /// Interaction range of a pair at contact distance `a_i + a_j` (units a): the
+    /// lubrication cut-off `(a_i + a_j)(1 + xi_max / 2)`, where the gap
+    /// `xi = 2 (r - a_i - a_j) / (a_i + a_j)` reaches `xi_max` (docs/physics.md section 4),
+    /// or the contact distance without lubrication.
+    pub fn reach(&self, contact_distance: f64) -> f64 {
+        if self.lubrication {
+            contact_distance * (1.0 + 0.5 * self.xi_max)
+        } else {
+            contact_distance
+        }
+    }
 }
 
 /// Time step, sampling, steady-state detection and averaging.
@@ -255,6 +269,8 @@ pub struct Scene {
     pub rho: f64,
     /// Stokes number `rho a^2 gdot_max / eta` with a the small radius (docs/physics.md section 1).
     pub stokes: f64,
+    /// The time step the scene runs with (docs/physics.md section 5), chosen once here.
+    pub timestep: TimeStep,
     /// Estimated peak memory of a run (bytes, see [`memory_estimate`]).
     pub memory_bytes: f64,
     /// Non-fatal problems (Stokes number too large, ...).
@@ -496,12 +512,7 @@ impl Scene {
 
         let a_max = p.radii.iter().cloned().fold(0.0, f64::max);
         let a_min = p.radii.iter().cloned().fold(f64::INFINITY, f64::min);
-        let contact_range = 2.0 * a_max;
-        let interaction_range = if f.lubrication {
-            contact_range * (1.0 + 0.5 * f.xi_max)
-        } else {
-            contact_range
-        };
+        let interaction_range = f.reach(2.0 * a_max);
         let needed = 2.0 * (interaction_range + r.skin);
         if file.fluid.shear_rate.is_some() && b.l_y < 1.5 * needed {
             return Err(SimError::field(
@@ -531,7 +542,7 @@ impl Scene {
         let mean_particle_volume: f64 = fractions
             .iter()
             .zip(&p.radii)
-            .map(|(x, a)| x * 4.0 / 3.0 * PI * a.powi(3))
+            .map(|(x, &a)| x * sphere_volume(a))
             .sum();
         let n_total = (p.phi * volume / mean_particle_volume).round() as usize;
         let memory_bytes =
@@ -571,7 +582,7 @@ impl Scene {
         let solid: f64 = counts
             .iter()
             .zip(&p.radii)
-            .map(|(&c, a)| c as f64 * 4.0 / 3.0 * PI * a.powi(3))
+            .map(|(&c, &a)| c as f64 * sphere_volume(a))
             .sum();
         let phi_actual = solid / volume;
 
@@ -618,8 +629,10 @@ impl Scene {
         if let Some(w) = thermal.as_ref().and_then(ThermalScales::warning) {
             warnings.push(w);
         }
+        let timestep = TimeStep::for_file(&file, rho, gdot_max);
         let mut scene = Scene {
             thermal,
+            timestep,
             box_len: [b.l_x, b.l_y, b.l_z],
             counts,
             phi_actual,
@@ -632,7 +645,7 @@ impl Scene {
             profile,
             file,
         };
-        let cost = RunCost::new(&scene, &TimeStep::for_scene(&scene));
+        let cost = RunCost::new(&scene);
         scene.warnings.extend(cost.check()?);
         Ok(scene)
     }

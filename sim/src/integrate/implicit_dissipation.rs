@@ -18,10 +18,10 @@
 use crate::forces::drag;
 use crate::forces::resistance_network::{Motion, ResistanceNetwork};
 use crate::input::flow_profile::FlowProfile;
-use crate::integrate::particle_ranges::{each_range, over_ranges};
-use crate::integrate::particles::Particles;
 use crate::integrate::pass_times::{PassTimes, RangeBusy};
-use crate::Vec3;
+use crate::state::particle_ranges::{each_range, over_ranges};
+use crate::state::particles::Particles;
+use crate::state::Vec3;
 use nalgebra::Matrix3;
 use std::time::Instant;
 

@@ -10,18 +10,18 @@ use crate::forces::network_loads::{
 use crate::forces::resistance_network::{Motion, ResistanceNetwork, ResistancePair};
 use crate::forces::thermal_noise::ThermalNoise;
 use crate::input::flow_profile::FlowProfile;
+use crate::input::integrator::Integrator;
 use crate::input::scene::Scene;
 use crate::integrate::implicit_dissipation::{ImplicitDissipation, SolveSettings, SolveStats};
-use crate::integrate::integrator::Integrator;
-use crate::integrate::particle_ranges::each_range;
-use crate::integrate::particles::{sphere_inertia, Particles};
 use crate::integrate::pass_times::PassTimes;
-use crate::integrate::periodic_box::PeriodicBox;
 use crate::integrate::stage_timers::{Stage, StageTimers};
 use crate::integrate::timestep::TimeStep;
 use crate::neighbours::cell_list::CellList;
 use crate::neighbours::verlet_list::VerletList;
-use crate::Vec3;
+use crate::state::particle_ranges::each_range;
+use crate::state::particles::{sphere_inertia, Particles};
+use crate::state::periodic_box::PeriodicBox;
+use crate::state::Vec3;
 use serde::{Deserialize, Serialize};
 
 /// Overlap ratio (overlap / smaller radius) beyond which a run is declared blown up.
@@ -235,8 +235,8 @@ impl Simulation {
 
     /// The system without neighbour list or forces.
     fn bare(scene: &Scene, particles: Particles) -> Result<Self, SimError> {
-        let field = ForceField::from_scene(scene);
-        let timestep = TimeStep::choose(scene, &field);
+        let field = ForceField::from_file(&scene.file);
+        let timestep = scene.timestep;
         if !(timestep.dt.is_finite() && timestep.dt > 0.0) {
             return Err(SimError::field(
                 "run.dt",

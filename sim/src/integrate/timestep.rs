@@ -2,11 +2,12 @@
 //! limited by the contact spring, the one-body drag and the lubrication squeeze
 //! resistance at `xi_min`; the implicit step only by the contact spring and by accuracy.
 //! The step is a safety fraction of the tightest stability limit, capped by accuracy.
+use crate::forces::drag;
 use crate::forces::force_field::ForceField;
-use crate::input::scene::Scene;
-use crate::integrate::integrator::Integrator;
+use crate::input::integrator::Integrator;
+use crate::input::scene::{Scene, SceneFile};
+use crate::state::particles::sphere_mass;
 use serde::Serialize;
-use std::f64::consts::PI;
 
 /// Which stability limit set the time step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -86,24 +87,21 @@ impl TimeStep {
     /// if given, else `dt_safety * dt_factor` times the tightest stability limit of the
     /// scene's integrator (explicit: contact, drag, lubrication; implicit: contact), the
     /// implicit one capped by `dt_factor * accuracy_limit`.
-    pub fn choose(scene: &Scene, field: &ForceField) -> TimeStep {
-        let rho = scene.rho;
-        let eta = scene.file.fluid.eta;
-        let radii = &scene.file.particles.radii;
-        let mass = |a: f64| 4.0 / 3.0 * PI * rho * a.powi(3);
+    pub fn choose(file: &SceneFile, rho: f64, gdot_max: f64, field: &ForceField) -> TimeStep {
+        let eta = file.fluid.eta;
+        let radii = &file.particles.radii;
+        let mass = |a: f64| sphere_mass(rho, a);
         let (mut contact, mut drag, mut lub) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
         for (s_i, &a_i) in radii.iter().enumerate() {
             if field.drag {
-                drag = drag.min(2.0 * mass(a_i) / (6.0 * PI * eta * a_i));
+                drag = drag.min(2.0 * drag::relaxation_time(mass(a_i), eta, a_i));
             }
             for (s_j, &a_j) in radii.iter().enumerate() {
                 let m_red = mass(a_i) * mass(a_j) / (mass(a_i) + mass(a_j));
                 let lubrication = &field.constants(s_i as u16, s_j as u16).lubrication;
                 if let Some(c) = &field.contact {
                     let (mut normal, mut tangential) = (0.0, 0.0);
-                    if let (Integrator::Implicit, Some(l)) =
-                        (scene.file.run.integrator, lubrication)
-                    {
+                    if let (Integrator::Implicit, Some(l)) = (file.run.integrator, lubrication) {
                         let r = l.resistance(l.xi_min).unwrap_or_default();
                         (normal, tangential) = (r.x11a, r.y11a);
                     }
@@ -117,9 +115,9 @@ impl TimeStep {
                 }
             }
         }
-        let run = &scene.file.run;
+        let run = &file.run;
         let (mut dt, mut limit) = (contact, DtLimit::Contact);
-        let accuracy = scene.file.forces.xi_min / scene.gdot_max();
+        let accuracy = file.forces.xi_min / gdot_max;
         if run.integrator == Integrator::Explicit {
             if drag < dt {
                 (dt, limit) = (drag, DtLimit::Drag);
@@ -133,7 +131,7 @@ impl TimeStep {
             (dt, limit) = (accuracy * run.dt_factor, DtLimit::Accuracy);
         }
         let thermal = THERMAL_FRACTION * contact * run.dt_factor;
-        if run.integrator == Integrator::Implicit && scene.thermal.is_some() && thermal < dt {
+        if run.integrator == Integrator::Implicit && file.fluid.kt > 0.0 && thermal < dt {
             (dt, limit) = (thermal, DtLimit::Thermal);
         }
         if let Some(user) = run.dt {
@@ -150,9 +148,10 @@ impl TimeStep {
         }
     }
 
-    /// The step `scene` will run with (its force field built from the scene).
-    pub fn for_scene(scene: &Scene) -> TimeStep {
-        Self::choose(scene, &ForceField::from_scene(scene))
+    /// The step a scene of `file` runs with, at particle density `rho` and largest shear
+    /// rate `gdot_max` (its force field built from the file).
+    pub fn for_file(file: &SceneFile, rho: f64, gdot_max: f64) -> TimeStep {
+        Self::choose(file, rho, gdot_max, &ForceField::from_file(file))
     }
 
     /// Steps per unit of the run's clock (strain, or Brownian time without flow; see

@@ -1,7 +1,7 @@
 //! Linked cells: particles sorted by the cubic cell of the box they sit in, so that the
 //! pairs closer than a cut-off are found in O(N).
-use crate::integrate::periodic_box::PeriodicBox;
-use crate::Vec3;
+use crate::state::periodic_box::PeriodicBox;
+use crate::state::Vec3;
 
 /// Particles bucketed into a grid of cells at least `cutoff` wide.
 pub struct CellList {

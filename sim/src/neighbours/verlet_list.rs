@@ -1,9 +1,9 @@
 //! Half Verlet neighbour list with a skin (pairs i < j closer than cut-off + skin),
 //! rebuilt from a cell list when a particle has moved more than half the skin (less, in a
 //! sheared box, what the sliding images have moved).
-use crate::integrate::periodic_box::PeriodicBox;
 use crate::neighbours::cell_list::CellList;
-use crate::Vec3;
+use crate::state::periodic_box::PeriodicBox;
+use crate::state::Vec3;
 use rayon::prelude::*;
 
 /// Particles per chunk of the parallel build.

@@ -3,7 +3,7 @@
 //! shifted along x by the current offset (docs/physics.md section 10), so the box tiles space
 //! as this sheared cell with the tilt `t` = offset, reduced to `[-L_x/2, L_x/2)` (an equivalent
 //! edge, `b - a`, once the offset passes half the box); `t = 0` without shear.
-use crate::integrate::periodic_box::PeriodicBox;
+use crate::state::periodic_box::PeriodicBox;
 
 /// Edge lengths and the xy tilt of a frame's cell (units a).
 #[derive(Clone, Copy, Debug, PartialEq)]

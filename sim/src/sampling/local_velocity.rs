@@ -3,7 +3,7 @@
 //! particles whose centres lie within `+-h` of `y_i` along the periodic y axis (particle i
 //! included). Particles are sorted by y once per snapshot and the window slides over the
 //! sorted list with prefix sums: `O(N log N)`, no allocation once the buffers have grown.
-use crate::Vec3;
+use crate::state::Vec3;
 
 /// Scratch buffers kept between snapshots.
 #[derive(Clone, Debug, Default)]

@@ -8,7 +8,7 @@ pub mod convention_effects;
 pub mod conventions;
 pub mod local_velocity;
 pub mod periodic_derivative;
-pub mod run_length;
+pub mod scene_binning;
 pub mod shear_rheology;
 pub mod snapshot;
 pub mod steady_state;

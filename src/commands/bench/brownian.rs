@@ -5,8 +5,8 @@
 //! timed window (1 is equipartition).
 use super::Args;
 use serde::Serialize;
+use sim::input::integrator::Integrator;
 use sim::input::scene::{Scene, SceneFile};
-use sim::integrate::integrator::Integrator;
 use sim::integrate::simulation::Simulation;
 use sim::integrate::stage_timers::StageTimers;
 use sim::run::initial_particles;

@@ -6,7 +6,7 @@
 //! velocity `gdot L_y` relative to the box, so at time t it sits shifted by the offset
 //! `gdot L_y t` (taken modulo `L_x`). A particle image `n` boxes up (n = -1, 0, 1 for the
 //! nearest image) is at `x + n (offset, L_y, 0)` and moves at `v + n (gdot L_y, 0, 0)`.
-use crate::Vec3;
+use crate::state::Vec3;
 
 /// Box lengths (units a), their halves, and the Lees-Edwards state of a sheared box.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -5,7 +5,7 @@
 //! reference are the report's business; this module only samples.
 use crate::input::scene::Scene;
 use crate::run::{Phase, RunOptions, RunSummary};
-use crate::sampling::bin_averages::BinAverages;
+use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::block_sums::BlockSums;
 use crate::sampling::snapshot::{field::FIELDS, Sampler};
 use crate::SimError;
@@ -82,7 +82,7 @@ pub fn sample(scene: &Scene, partial: usize, reference: usize) -> Result<Sampled
     file.run.snapshots = partial + reference;
     file.run.blocks = 2;
     let scene = Scene::from_file(file, false)?;
-    let ctx = crate::run::binning_context(&scene);
+    let ctx = BinningContext::for_scene(&scene);
     let nb = scene.n_bins;
     let started = Instant::now();
     let mut snaps: Vec<Vec<f64>> = Vec::with_capacity(partial);

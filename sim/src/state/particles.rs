@@ -1,7 +1,19 @@
 //! Particle state as contiguous arrays (structure of arrays).
-use crate::Vec3;
+use crate::state::Vec3;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
+
+/// Volume `4/3 pi a^3` of a sphere of radius `a`.
+#[inline]
+pub fn sphere_volume(a: f64) -> f64 {
+    4.0 / 3.0 * PI * a.powi(3)
+}
+
+/// Mass `4/3 pi rho a^3` of a sphere of density `rho` and radius `a` (eq 3.1).
+#[inline]
+pub fn sphere_mass(rho: f64, a: f64) -> f64 {
+    4.0 / 3.0 * PI * rho * a.powi(3)
+}
 
 /// Moment of inertia `(2/5) m a^2` of a solid sphere (eq 3.2).
 #[inline]
@@ -38,10 +50,7 @@ impl Particles {
     /// Particles at rest at `pos` with radii and species given, density `rho`.
     pub fn at_rest(pos: Vec<Vec3>, radius: Vec<f64>, species: Vec<u16>, rho: f64) -> Self {
         let n = pos.len();
-        let mass = radius
-            .iter()
-            .map(|a| 4.0 / 3.0 * PI * rho * a.powi(3))
-            .collect();
+        let mass = radius.iter().map(|&a| sphere_mass(rho, a)).collect();
         Self {
             pos,
             vel: vec![Vec3::zeros(); n],
@@ -81,6 +90,18 @@ impl Particles {
         self.pos.is_empty()
     }
 
+    /// Volume `4/3 pi a^3` of a sphere of radius `a`.
+    #[inline]
+    pub fn sphere_volume(a: f64) -> f64 {
+        4.0 / 3.0 * PI * a.powi(3)
+    }
+
+    /// Mass `4/3 pi rho a^3` of a sphere of density `rho` and radius `a` (eq 3.1).
+    #[inline]
+    pub fn sphere_mass(rho: f64, a: f64) -> f64 {
+        4.0 / 3.0 * PI * rho * a.powi(3)
+    }
+
     /// Moment of inertia `(2/5) m a^2` of particle i (eq 3.2).
     #[inline]
     pub fn inertia(&self, i: usize) -> f64 {
@@ -111,6 +132,6 @@ impl Particles {
 
     /// Total solid volume.
     pub fn solid_volume(&self) -> f64 {
-        self.radius.iter().map(|a| 4.0 / 3.0 * PI * a.powi(3)).sum()
+        self.radius.iter().map(|&a| sphere_volume(a)).sum()
     }
 }

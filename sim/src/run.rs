@@ -516,8 +516,8 @@ pub fn run(
         mean_overlap: st.overlap_mean_sum / target as f64,
         max_overlap: st.overlap_max,
         list_builds: sim.list_builds,
-        solver_iterations_mean: (sim.solver_totals.0 > 0)
-            .then(|| sim.solver_totals.1 as f64 / sim.solver_totals.0 as f64),
+        solver_iterations_mean: (sim.solver_totals().0 > 0)
+            .then(|| sim.solver_totals().1 as f64 / sim.solver_totals().0 as f64),
         timers: sim.timers,
         threads: rayon::current_num_threads(),
         undefined_bins,

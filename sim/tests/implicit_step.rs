@@ -144,7 +144,7 @@ fn the_dissipative_update_never_creates_kinetic_energy() {
         sim.step().unwrap();
         let after = sim.particles.kinetic_energy();
         assert!(
-            sim.last_solve.iterations > 1,
+            sim.last_solve().iterations > 1,
             "trial {trial}: no coupled pairs"
         );
         assert!(

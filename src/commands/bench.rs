@@ -180,11 +180,12 @@ fn measure(
     let particles = initial_particles(&scene)?;
     crate::threads::with_threads(threads, || -> anyhow::Result<Record> {
         let mut sim = Simulation::new(&scene, particles)?;
+        sim.time_solve_passes();
         let dt = sim.timestep.dt;
         let in_own_steps = |peer_steps: u64| (peer_steps as f64 * PEER_DT / dt).round() as u64;
         let steps = in_own_steps(args.steps).max(1);
         sim.advance(in_own_steps(args.warmup))?;
-        let before = sim.solver_totals;
+        let before = sim.solver_totals();
         let timers_before = sim.timers;
         let passes_before = sim.solve_pass_times();
         let t = Instant::now();
@@ -193,7 +194,7 @@ fn measure(
         let n = sim.particles.len() as f64;
         let gdot_max = scene.gdot_max();
         let s_per_strain = loop_s / (steps as f64 * dt * gdot_max);
-        let solves = sim.solver_totals.0 - before.0;
+        let solves = sim.solver_totals().0 - before.0;
         Ok(Record {
             n: sim.particles.len(),
             threads: rayon::current_num_threads(),
@@ -206,12 +207,16 @@ fn measure(
             loop_s,
             contacts_per_particle: 2.0 * sim.contacts.contacts as f64 / n,
             solver_iterations: (solves > 0)
-                .then(|| (sim.solver_totals.1 - before.1) as f64 / solves as f64),
+                .then(|| (sim.solver_totals().1 - before.1) as f64 / solves as f64),
             lammps_ratio: args
                 .lammps_pps
                 .map(|pps| n / (pps * PEER_DT * gdot_max) / s_per_strain),
             stages: sim.timers.since(&timers_before),
-            solve_passes: (solves > 0).then(|| sim.solve_pass_times().since(&passes_before)),
+            solve_passes: sim
+                .solve_pass_times()
+                .zip(passes_before)
+                .filter(|_| solves > 0)
+                .map(|(now, before)| now.since(&before)),
         })
     })?
 }

@@ -12,6 +12,18 @@ pub struct ContactLaw {
     pub mu_p: f64,
 }
 
+/// A touching pair as the tangential law sees it: overlap `delta = a_i + a_j - |r|` (units
+/// a), unit vector `n` from i to j, relative velocity `dv = v_j - v_i`, the spins of i and
+/// j and their radii.
+#[derive(Clone, Copy)]
+pub struct ContactMotion<'a> {
+    pub delta: f64,
+    pub n: &'a Vec3,
+    pub dv: &'a Vec3,
+    pub omega: [&'a Vec3; 2],
+    pub radius: [f64; 2],
+}
+
 impl ContactLaw {
     /// Contact law with `k_t = 2/7 k_n` (docs/physics.md section 1).
     pub fn new(k_n: f64, mu_p: f64) -> Self {
@@ -39,19 +51,14 @@ impl ContactLaw {
     /// current tangent plane, advanced by the relative surface velocity times `dt`, and
     /// shortened so that `k_t |spring| <= mu_p k_n delta` (sliding). Returns the
     /// tangential force `-k_t spring` on i and the torques `a_i n x F`, `a_j n x F`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn tangential(
-        &self,
-        spring: &mut Vec3,
-        delta: f64,
-        n: &Vec3,
-        dv: &Vec3,
-        omega_i: &Vec3,
-        omega_j: &Vec3,
-        a_i: f64,
-        a_j: f64,
-        dt: f64,
-    ) -> PairLoad {
+    pub fn tangential(&self, spring: &mut Vec3, contact: &ContactMotion, dt: f64) -> PairLoad {
+        let ContactMotion {
+            delta,
+            n,
+            dv,
+            omega: [omega_i, omega_j],
+            radius: [a_i, a_j],
+        } = *contact;
         // Surface velocity of i's contact point relative to j's, with dv = v_j - v_i.
         let slip = -dv + (omega_i * a_i + omega_j * a_j).cross(n);
         let slip_t = slip - n * n.dot(&slip);

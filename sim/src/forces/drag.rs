@@ -1,7 +1,23 @@
 //! One-body Stokes drag towards the local streaming flow (thesis eqs 3.5, 3.6; docs/physics.md
 //! sections 2 and 4) and the single-particle drag stresslet.
+use crate::input::flow_profile::FlowProfile;
 use crate::state::Vec3;
 use std::f64::consts::PI;
+
+/// Drag force and torque (3.5, 3.6) on a sphere of radius `a` at height `y` moving at
+/// `(v, omega)` through the streaming flow `profile`. At rest (`v = omega = 0`) this is the
+/// inflow term `D V_inf` of the implicit step (docs/physics.md section 5).
+#[inline]
+pub fn loads(
+    eta: f64,
+    a: f64,
+    profile: &FlowProfile,
+    y: f64,
+    (v, omega): (&Vec3, &Vec3),
+) -> (Vec3, Vec3) {
+    let (u, du_dy) = profile.u_and_slope(y);
+    (force(eta, a, u, v), torque(eta, a, du_dy, omega))
+}
 
 /// Translational drag `F = 6 pi eta a (U_inf(y) - v)` with `U_inf = (u(y), 0, 0)` (3.5).
 #[inline]

@@ -1,8 +1,8 @@
 //! Sums pair and one-body loads into every particle's force and torque, in parallel over
-//! contiguous chunks of the half neighbour list, with a fixed chunking so that the same
+//! contiguous ranges of the half neighbour list, with fixed ranges so that the same
 //! thread count always gives the same bits (docs/physics.md section 3).
-use crate::forces::chunk_buffers::{zero_buffer, ChunkBuffers, ChunkTarget};
 use crate::forces::force_field::ForceField;
+use crate::forces::range_buffers::{zero_buffer, RangeBuffers, RangeTarget};
 use crate::forces::resistance_network::{ResistanceNetwork, ResistancePair};
 use crate::input::flow_profile::FlowProfile;
 use crate::neighbours::verlet_list::VerletList;
@@ -61,11 +61,23 @@ impl ContactStats {
     }
 }
 
-/// Chunk bounds and buffers of the parallel pair loop, reused every step (no allocation
+/// What every pair load of one evaluation reads besides the particles: the force laws,
+/// the neighbour list, the box, the streaming flow, and the time `spring_dt` by which the
+/// tangential contact springs advance.
+#[derive(Clone, Copy)]
+pub struct PairContext<'a> {
+    pub field: &'a ForceField,
+    pub list: &'a VerletList,
+    pub pbox: &'a PeriodicBox,
+    pub profile: &'a FlowProfile,
+    pub spring_dt: f64,
+}
+
+/// Range bounds and buffers of the parallel pair loop, reused every step (no allocation
 /// per step).
 #[derive(Default)]
 pub struct ForceAccumulator {
-    buffers: ChunkBuffers,
+    buffers: RangeBuffers,
     bounds: Vec<usize>,
 }
 
@@ -77,20 +89,20 @@ impl ForceAccumulator {
     /// cuts of an equal split. Returns the number of ranges.
     pub fn split(&mut self, list: &VerletList, crossings: bool) -> usize {
         let n = list.start.len() - 1;
-        let chunks = if n < PARALLEL_MIN_PARTICLES {
+        let ranges = if n < PARALLEL_MIN_PARTICLES {
             1
         } else {
             rayon::current_num_threads().max(1)
         };
-        self.cut(list, chunks, 0, |_| 0);
+        self.cut(list, ranges, 0, |_| 0);
         if crossings {
-            let extra = self.bounds[1..chunks]
+            let extra = self.bounds[1..ranges]
                 .iter()
                 .map(|&b| list.crossing[b])
                 .sum();
-            self.cut(list, chunks, extra, |b| list.crossing[b]);
+            self.cut(list, ranges, extra, |b| list.crossing[b]);
         }
-        chunks
+        ranges
     }
 
     /// The ranges of the last [`ForceAccumulator::split`]: range k holds particles
@@ -99,12 +111,12 @@ impl ForceAccumulator {
         &self.bounds
     }
 
-    /// Sets the bounds so that each range holds `(pairs + extra) / chunks` of the listed
+    /// Sets the bounds so that each range holds `(pairs + extra) / ranges` of the listed
     /// pairs plus the `crossing(b)` pairs that enter it at its first cut `b`.
     fn cut(
         &mut self,
         list: &VerletList,
-        chunks: usize,
+        ranges: usize,
         extra: usize,
         crossing: impl Fn(usize) -> usize,
     ) {
@@ -113,8 +125,8 @@ impl ForceAccumulator {
         self.bounds.clear();
         self.bounds.push(0);
         let (mut i, mut entered) = (0, 0);
-        for k in 1..chunks {
-            let target = total * k / chunks;
+        for k in 1..ranges {
+            let target = total * k / ranges;
             while i < n && list.start[i] + entered < target {
                 i += 1;
             }
@@ -124,24 +136,42 @@ impl ForceAccumulator {
         self.bounds.push(n);
     }
 
-    /// Sets `p.force` and `p.torque` to the total load on every particle: one-body terms
-    /// plus every listed pair within its cut-off. `springs` holds one tangential spring
-    /// per listed pair in frictional scenes and is empty otherwise. With a `network`, the
-    /// loads are the conservative ones only (contacts; no drag, no lubrication) and the
-    /// network receives every pair's lubrication resistance instead (the implicit step).
-    #[allow(clippy::too_many_arguments)]
-    pub fn evaluate(
+    /// The explicit step's loads: sets `p.force` and `p.torque` to the total load on
+    /// every particle, the one-body terms plus every listed pair within its cut-off
+    /// (contact and lubrication). `springs` holds one tangential spring per listed pair
+    /// in frictional scenes and is empty otherwise.
+    pub fn all_loads(
         &mut self,
-        field: &ForceField,
+        pairs: &PairContext,
         p: &mut Particles,
-        list: &VerletList,
         springs: &mut [Vec3],
-        pbox: &PeriodicBox,
-        profile: &FlowProfile,
-        dt: f64,
+    ) -> ContactStats {
+        self.evaluate(pairs, p, springs, None)
+    }
+
+    /// The implicit step's loads: sets `p.force` and `p.torque` to the loads known before
+    /// the solve (contacts, and the lubrication of a sliding image's extra velocity; no
+    /// drag, no lubrication of the particles' own motion), and fills `network` with every
+    /// pair's lubrication resistance instead. `springs` as in [`Self::all_loads`].
+    pub fn known_loads(
+        &mut self,
+        pairs: &PairContext,
+        p: &mut Particles,
+        springs: &mut [Vec3],
+        network: &mut ResistanceNetwork,
+    ) -> ContactStats {
+        self.evaluate(pairs, p, springs, Some(network))
+    }
+
+    /// [`Self::all_loads`] without a network, [`Self::known_loads`] with one.
+    fn evaluate(
+        &mut self,
+        pairs: &PairContext,
+        p: &mut Particles,
+        springs: &mut [Vec3],
         mut network: Option<&mut ResistanceNetwork>,
     ) -> ContactStats {
-        let chunks = self.split(list, network.is_some());
+        let ranges = self.split(pairs.list, network.is_some());
         if let Some(net) = network.as_deref_mut() {
             net.reset(&self.bounds);
         }
@@ -151,6 +181,7 @@ impl ForceAccumulator {
         let mut torque = std::mem::take(&mut p.torque);
         let state: &Particles = p;
         let one_body = network.is_none();
+        let (field, profile, list) = (pairs.field, pairs.profile, pairs.list);
         each_range(
             &self.bounds,
             (&mut force[..], &mut torque[..]),
@@ -165,9 +196,9 @@ impl ForceAccumulator {
             },
         );
         let bounds = &self.bounds;
-        let mut spring_parts: Vec<&mut [Vec3]> = Vec::with_capacity(chunks);
+        let mut spring_parts: Vec<&mut [Vec3]> = Vec::with_capacity(ranges);
         let mut rest = springs;
-        for k in 0..chunks {
+        for k in 0..ranges {
             let len = if rest.is_empty() {
                 0
             } else {
@@ -178,18 +209,15 @@ impl ForceAccumulator {
             rest = tail;
         }
         let mut records: Vec<Option<&mut Vec<ResistancePair>>> = match network {
-            Some(net) => net.chunks.iter_mut().map(Some).collect(),
-            None => (0..chunks).map(|_| None).collect(),
+            Some(net) => net.ranges.iter_mut().map(Some).collect(),
+            None => (0..ranges).map(|_| None).collect(),
         };
-        let stats = if chunks == 1 {
+        let stats = if ranges == 1 {
             let mut total = ContactStats::default();
             pair_range(
-                field,
+                pairs,
                 state,
-                list,
                 spring_parts.pop().unwrap_or_default(),
-                pbox,
-                dt,
                 (0..n, (&mut force, &mut torque, 0)),
                 records.pop().flatten(),
                 &mut total,
@@ -206,12 +234,9 @@ impl ForceAccumulator {
                     zero_buffer(&mut target);
                     let mut s = ContactStats::default();
                     pair_range(
-                        field,
+                        pairs,
                         state,
-                        list,
                         part,
-                        pbox,
-                        dt,
                         (bounds[k]..bounds[k + 1], target),
                         record,
                         &mut s,
@@ -234,19 +259,22 @@ impl ForceAccumulator {
 
 /// Adds the loads of the pairs whose first particle lies in `rows` into the target's
 /// force and torque arrays, which hold particles from its offset on. With `record`, only
-/// contact loads are added and each pair's lubrication resistance is recorded.
-#[allow(clippy::too_many_arguments)]
+/// the known loads are added and each pair's lubrication resistance is recorded.
 fn pair_range(
-    field: &ForceField,
+    pairs: &PairContext,
     p: &Particles,
-    list: &VerletList,
     springs: &mut [Vec3],
-    pbox: &PeriodicBox,
-    dt: f64,
-    (rows, (force, torque, offset)): (std::ops::Range<usize>, ChunkTarget<'_>),
+    (rows, (force, torque, offset)): (std::ops::Range<usize>, RangeTarget<'_>),
     mut record: Option<&mut Vec<ResistancePair>>,
     stats: &mut ContactStats,
 ) {
+    let PairContext {
+        field,
+        list,
+        pbox,
+        spring_dt: dt,
+        ..
+    } = *pairs;
     let frictional = !springs.is_empty();
     let first_pair = list.start[rows.start];
     // Filled as a local vector, put back at the end: the records' headers lie side by

@@ -1,6 +1,6 @@
 //! The force terms a scene switches on, with per-species-pair constants precomputed, and
 //! the load of one pair and of one particle (docs/physics.md section 4).
-use crate::forces::contact::ContactLaw;
+use crate::forces::contact::{ContactLaw, ContactMotion};
 use crate::forces::drag;
 use crate::forces::lubrication::{gap, LubricationCoefficients, PairResistance};
 use crate::forces::pair_load::PairLoad;
@@ -167,17 +167,14 @@ impl ForceField {
             if overlap > 0.0 {
                 load.force_i += contact.normal(overlap, &n);
                 if let Some(s) = spring {
-                    let t = contact.tangential(
-                        s,
-                        overlap,
-                        &n,
-                        &dv,
-                        &p.omega[i],
-                        &p.omega[j],
-                        p.radius[i],
-                        p.radius[j],
-                        dt,
-                    );
+                    let motion = ContactMotion {
+                        delta: overlap,
+                        n: &n,
+                        dv: &dv,
+                        omega: [&p.omega[i], &p.omega[j]],
+                        radius: [p.radius[i], p.radius[j]],
+                    };
+                    let t = contact.tangential(s, &motion, dt);
                     load.add(&t);
                 }
             } else if let Some(s) = spring {
@@ -200,11 +197,7 @@ impl ForceField {
         if !self.drag {
             return (Vec3::zeros(), Vec3::zeros());
         }
-        let (u, du_dy) = profile.u_and_slope(p.pos[i].y);
-        let a = p.radius[i];
-        (
-            drag::force(self.eta, a, u, &p.vel[i]),
-            drag::torque(self.eta, a, du_dy, &p.omega[i]),
-        )
+        let motion = (&p.vel[i], &p.omega[i]);
+        drag::loads(self.eta, p.radius[i], profile, p.pos[i].y, motion)
     }
 }

@@ -1,7 +1,6 @@
 //! The force laws (docs/physics.md, section Forces): contact springs, Stokes drag,
 //! Kim-Karrila lubrication, and their accumulation over the neighbour list.
 
-pub mod chunk_buffers;
 pub mod contact;
 pub mod drag;
 pub mod force_accumulation;
@@ -9,5 +8,6 @@ pub mod force_field;
 pub mod lubrication;
 pub mod network_loads;
 pub mod pair_load;
+pub mod range_buffers;
 pub mod resistance_network;
 pub mod thermal_noise;

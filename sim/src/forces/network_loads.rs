@@ -157,7 +157,7 @@ mod tests {
             let lub = LubricationCoefficients::new(radius[i], radius[j], 0.1, 1e-3, 0.05);
             let n = Vec3::new(1.0, 0.3 * m as f64, -0.2 * m as f64 + 0.1).normalize();
             let k = usize::from(i >= 3);
-            net.chunks[k].push(ResistancePair {
+            net.ranges[k].push(ResistancePair {
                 i: i as u32,
                 j: j as u32,
                 n,

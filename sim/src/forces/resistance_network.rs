@@ -2,8 +2,8 @@
 //! the sparse symmetric operator `R` that maps the particles' motion to minus their
 //! lubrication loads (docs/physics.md sections 4 and 5). The implicit step solves with it.
 //!
-//! The pairs stay in the chunks of the force evaluation that found them: chunk k holds the
-//! pairs whose first particle lies in `bounds[k]..bounds[k + 1]`, the chunk's range. Work
+//! The pairs stay in the ranges of the force evaluation that found them: range k holds the
+//! pairs whose first particle lies in `bounds[k]..bounds[k + 1]`. Work
 //! on the network is done range by range, each range's rows written by one thread only:
 //! a pair whose second particle lies in a later range (a crossing pair) is evaluated by
 //! both ranges, each keeping its own particle's share. No per-thread buffers, no
@@ -27,23 +27,23 @@ pub struct ResistancePair {
 /// and torque).
 pub type Motion = [Vec3; 2];
 
-/// The pairs in the chunks of the force evaluation that found them, with the crossing
-/// pairs of each chunk indexed.
+/// The pairs in the ranges of the force evaluation that found them, with the crossing
+/// pairs of each range indexed.
 #[derive(Default)]
 pub struct ResistanceNetwork {
-    pub chunks: Vec<Vec<ResistancePair>>,
+    pub ranges: Vec<Vec<ResistancePair>>,
     pub bounds: Vec<usize>,
-    /// For each chunk, the positions of its crossing pairs (second particle in a later
-    /// range), in the chunk's order.
+    /// For each range, the positions of its crossing pairs (second particle in a later
+    /// range), in the range's order.
     crossing: Vec<Vec<u32>>,
 }
 
 impl ResistanceNetwork {
-    /// Empties the network for `bounds` (one chunk per range), keeping its memory.
+    /// Empties the network for `bounds` (one list of pairs per range), keeping its memory.
     pub fn reset(&mut self, bounds: &[usize]) {
-        let chunks = bounds.len() - 1;
-        self.chunks.resize_with(chunks, Vec::new);
-        for c in &mut self.chunks {
+        let ranges = bounds.len() - 1;
+        self.ranges.resize_with(ranges, Vec::new);
+        for c in &mut self.ranges {
             c.clear();
         }
         self.bounds.clear();
@@ -52,7 +52,7 @@ impl ResistanceNetwork {
 
     /// Number of pairs.
     pub fn len(&self) -> usize {
-        self.chunks.iter().map(Vec::len).sum()
+        self.ranges.iter().map(Vec::len).sum()
     }
 
     /// Whether no pair is within the lubrication cut-off.
@@ -60,13 +60,13 @@ impl ResistanceNetwork {
         self.len() == 0
     }
 
-    /// Indexes each chunk's crossing pairs; call once the chunks are filled.
+    /// Indexes each range's crossing pairs; call once the ranges are filled.
     pub fn index_crossings(&mut self) {
-        self.crossing.resize_with(self.chunks.len(), Vec::new);
+        self.crossing.resize_with(self.ranges.len(), Vec::new);
         let bounds = &self.bounds;
         self.crossing
             .par_iter_mut()
-            .zip(self.chunks.par_iter())
+            .zip(self.ranges.par_iter())
             .enumerate()
             .for_each(|(k, (crossing, pairs))| {
                 // Filled as a local vector (see `pair_range` on false sharing).
@@ -84,8 +84,8 @@ impl ResistanceNetwork {
     }
 
     /// Calls `visit(pair, i, j)` for every pair with a particle in range `k`, with the
-    /// positions of i and j in the range (`None` outside it): first the chunk's own pairs
-    /// in order, then the crossing pairs of earlier chunks that end in the range.
+    /// positions of i and j in the range (`None` outside it): first the range's own pairs
+    /// in order, then the crossing pairs of earlier ranges that end in the range.
     #[inline]
     pub fn visit(
         &self,
@@ -98,10 +98,10 @@ impl ResistanceNetwork {
                 .contains(&(q as usize))
                 .then(|| q as usize - start)
         };
-        for p in &self.chunks[k] {
+        for p in &self.ranges[k] {
             visit(p, Some(p.i as usize - start), inside(p.j));
         }
-        for (pairs, crossing) in self.chunks[..k].iter().zip(&self.crossing[..k]) {
+        for (pairs, crossing) in self.ranges[..k].iter().zip(&self.crossing[..k]) {
             for &m in crossing {
                 let p = &pairs[m as usize];
                 if let Some(j) = inside(p.j) {
@@ -178,7 +178,7 @@ mod tests {
             for j in i + 1..12 {
                 if rng.gen_bool(0.5) {
                     let k = net.bounds.iter().rposition(|&b| b <= i as usize).unwrap();
-                    net.chunks[k].push(ResistancePair {
+                    net.ranges[k].push(ResistancePair {
                         i,
                         j,
                         n: random_vec(rng).normalize(),
@@ -199,13 +199,13 @@ mod tests {
         let net = network(&mut rng);
         assert!(net.crossing[0]
             .iter()
-            .any(|&m| net.chunks[0][m as usize].j >= 9));
+            .any(|&m| net.ranges[0][m as usize].j >= 9));
         let motion: Vec<Motion> = (0..12)
             .map(|_| [random_vec(&mut rng), random_vec(&mut rng)])
             .collect();
         let mut expected = vec![[Vec3::zeros(); 2]; 12];
         let mut expected_blocks = vec![[Matrix3::zeros(); 2]; 12];
-        for p in net.chunks.iter().flatten() {
+        for p in net.ranges.iter().flatten() {
             let (i, j) = (p.i as usize, p.j as usize);
             let (a, b) = (motion[i], motion[j]);
             let load = p.resistance.load(&p.n, &(b[0] - a[0]), &a[1], &b[1]);

@@ -60,14 +60,23 @@ impl std::ops::Add for Sums {
 
 /// Runs `f(k, first, rows, entries)` on every range `k` of `bounds` (particles
 /// `first..bounds[k + 1]`, with their rows and entries) in parallel and adds the sums in
-/// range order, so the same bounds give the same bits. The pass's times go to `times`.
+/// range order, so the same bounds give the same bits. With `times` the pass is timed
+/// into it; without, no clock is read.
 fn sum_ranges(
     bounds: &[usize],
-    times: &mut PassTimes,
+    times: Option<&mut PassTimes>,
     rows: &mut [Rows],
     entries: &mut [Motion],
     f: &(impl Fn(usize, usize, &mut [Rows], &mut [Motion]) -> Sums + Sync),
 ) -> Sums {
+    let Some(times) = times else {
+        return over_ranges(
+            bounds,
+            (rows, entries),
+            &|k, first, (rows, entries)| f(k, first, rows, entries),
+            &|a, b| a + b,
+        );
+    };
     let start = Instant::now();
     let (sums, busy) = over_ranges(
         bounds,
@@ -137,8 +146,9 @@ pub struct ImplicitDissipation {
     rows: Vec<Rows>,
     z: Vec<Motion>,
     w: Vec<Motion>,
-    /// Time of the parallel passes of every solve so far.
-    pub times: PassTimes,
+    /// Time of the parallel passes of every solve since the timing was switched on
+    /// (`None`: not timed, no clock read per pass).
+    pub times: Option<PassTimes>,
 }
 
 impl ImplicitDissipation {
@@ -167,7 +177,7 @@ impl ImplicitDissipation {
         let w = &self.w;
         let mut rz = sum_ranges(
             bounds,
-            &mut self.times,
+            self.times.as_mut(),
             &mut self.rows,
             &mut self.z,
             &|k, _, rows, z| {
@@ -207,7 +217,7 @@ impl ImplicitDissipation {
             let z = &self.z;
             let dq = sum_ranges(
                 bounds,
-                &mut self.times,
+                self.times.as_mut(),
                 &mut self.rows,
                 &mut self.w,
                 &|k, first, rows, w| {
@@ -226,7 +236,7 @@ impl ImplicitDissipation {
             let alpha = rz.0 / dq.0;
             let next = sum_ranges(
                 bounds,
-                &mut self.times,
+                self.times.as_mut(),
                 &mut self.rows,
                 &mut self.z,
                 &|_, _, rows, z| {
@@ -266,7 +276,7 @@ impl ImplicitDissipation {
     ) -> f64 {
         let sums = sum_ranges(
             &network.bounds,
-            &mut self.times,
+            self.times.as_mut(),
             &mut self.rows,
             &mut self.w,
             &|k, first, rows, w| {
@@ -284,13 +294,13 @@ impl ImplicitDissipation {
                     row.preconditioner = Matrix3::zeros();
                     if let Some((eta, profile)) = drag {
                         let a = p.radius[i];
-                        let y = p.pos[i].y;
-                        // The drag load at rest is the inflow term `D V_inf`.
+                        let rest = (&Vec3::zeros(), &Vec3::zeros());
+                        let (force, torque) = drag::loads(eta, a, profile, p.pos[i].y, rest);
                         if rotational {
-                            row.r += drag::torque(eta, a, profile.du_dy(y), &Vec3::zeros()) * dt;
+                            row.r += torque * dt;
                             row.diagonal += dt * drag::rotational_resistance(eta, a);
                         } else {
-                            row.r += drag::force(eta, a, profile.u(y), &Vec3::zeros()) * dt;
+                            row.r += force * dt;
                             row.diagonal += dt * drag::translational_resistance(eta, a);
                         }
                     }

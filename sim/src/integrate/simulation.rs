@@ -1,7 +1,7 @@
 //! The particle system in time: neighbour upkeep, force evaluation and the implicit or
 //! velocity-Verlet step (docs/physics.md section 5), with blow-up detection.
 use crate::error::SimError;
-use crate::forces::force_accumulation::{ContactStats, ForceAccumulator};
+use crate::forces::force_accumulation::{ContactStats, ForceAccumulator, PairContext};
 use crate::forces::force_field::ForceField;
 use crate::forces::lubrication::gap;
 use crate::forces::network_loads::{
@@ -46,7 +46,7 @@ pub struct SystemState {
     pub springs: Vec<Vec3>,
     pub step: u64,
     pub time: f64,
-    pub list_builds: u64,
+    pub(crate) list_builds: u64,
 }
 
 /// What a Brownian scene's steps keep besides the particles: the keyed noise and the
@@ -190,25 +190,25 @@ impl Thermal {
 pub struct Simulation {
     pub particles: Particles,
     pub pbox: PeriodicBox,
-    pub field: ForceField,
-    pub profile: FlowProfile,
+    pub(crate) field: ForceField,
+    pub(crate) profile: FlowProfile,
     pub timestep: TimeStep,
-    pub list: VerletList,
+    pub(crate) list: VerletList,
     /// Tangential contact springs, one per listed pair (frictional scenes only).
-    pub springs: Vec<Vec3>,
+    pub(crate) springs: Vec<Vec3>,
     pub step: u64,
     pub time: f64,
     /// Overlaps at the last force evaluation.
     pub contacts: ContactStats,
     pub timers: StageTimers,
-    pub list_builds: u64,
+    pub(crate) list_builds: u64,
     /// Constant external force on each particle (empty = none): a probe for tests and
     /// driven scenes; never evaluated when empty.
     pub body_force: Vec<Vec3>,
     /// Iterations and residual of the last implicit solve.
-    pub last_solve: SolveStats,
+    last_solve: SolveStats,
     /// Implicit solves and their iterations since the start (or the restart).
-    pub solver_totals: (u64, u64),
+    solver_totals: (u64, u64),
     accumulator: ForceAccumulator,
     /// Lubrication resistances at the current positions (implicit step and Brownian
     /// scenes only).
@@ -380,18 +380,22 @@ impl Simulation {
     /// and the explicit step's Brownian loads drawn for `noise_step`.
     fn evaluate_loads(&mut self, spring_dt: f64, noise_step: u64) {
         let t = self.timers.start();
-        let network = self.uses_network().then_some(&mut self.network);
-        self.contacts = self.accumulator.evaluate(
-            &self.field,
-            &mut self.particles,
-            &self.list,
-            &mut self.springs,
-            &self.pbox,
-            &self.profile,
+        let with_network = self.uses_network();
+        let pairs = PairContext {
+            field: &self.field,
+            list: &self.list,
+            pbox: &self.pbox,
+            profile: &self.profile,
             spring_dt,
-            network,
-        );
-        if self.uses_network() {
+        };
+        let (p, springs) = (&mut self.particles, &mut self.springs[..]);
+        self.contacts = if with_network {
+            self.accumulator
+                .known_loads(&pairs, p, springs, &mut self.network)
+        } else {
+            self.accumulator.all_loads(&pairs, p, springs)
+        };
+        if with_network {
             self.network.index_crossings();
         }
         for (f, b) in self.particles.force.iter_mut().zip(&self.body_force) {
@@ -597,9 +601,28 @@ impl Simulation {
         self.check()
     }
 
-    /// Time of the implicit solve's parallel passes since the start (zero with the
-    /// explicit step).
-    pub fn solve_pass_times(&self) -> PassTimes {
+    /// Iterations and residual of the last implicit solve.
+    pub fn last_solve(&self) -> SolveStats {
+        self.last_solve
+    }
+
+    /// Implicit solves and their conjugate-gradient iterations since the start (or the
+    /// restart).
+    pub fn solver_totals(&self) -> (u64, u64) {
+        self.solver_totals
+    }
+
+    /// Switches on the timing of the implicit solve's parallel passes (off by default:
+    /// it reads the clock twice per range and pass).
+    pub fn time_solve_passes(&mut self) {
+        self.dissipation
+            .times
+            .get_or_insert_with(PassTimes::default);
+    }
+
+    /// Time of the implicit solve's parallel passes since [`Self::time_solve_passes`]
+    /// (zero with the explicit step), `None` when they are not timed.
+    pub fn solve_pass_times(&self) -> Option<PassTimes> {
         self.dissipation.times
     }
 

@@ -90,18 +90,6 @@ impl Particles {
         self.pos.is_empty()
     }
 
-    /// Volume `4/3 pi a^3` of a sphere of radius `a`.
-    #[inline]
-    pub fn sphere_volume(a: f64) -> f64 {
-        4.0 / 3.0 * PI * a.powi(3)
-    }
-
-    /// Mass `4/3 pi rho a^3` of a sphere of density `rho` and radius `a` (eq 3.1).
-    #[inline]
-    pub fn sphere_mass(rho: f64, a: f64) -> f64 {
-        4.0 / 3.0 * PI * rho * a.powi(3)
-    }
-
     /// Moment of inertia `(2/5) m a^2` of particle i (eq 3.2).
     #[inline]
     pub fn inertia(&self, i: usize) -> f64 {

@@ -74,7 +74,7 @@ fn measure(
         let steps_of = |tau: f64| ((tau * tau_b / dt).round() as u64).max(1);
         sim.advance(steps_of(warmup))?;
         let steps = steps_of(window);
-        let before = sim.solver_totals;
+        let before = sim.solver_totals();
         let timers_before = sim.timers;
         let (mut trans, mut rot) = (0.0, 0.0);
         let t = Instant::now();
@@ -86,7 +86,7 @@ fn measure(
         }
         let loop_s = t.elapsed().as_secs_f64();
         let s_per_tau_b = loop_s / (steps as f64 * dt / tau_b);
-        let solves = sim.solver_totals.0 - before.0;
+        let solves = sim.solver_totals().0 - before.0;
         Ok(Record {
             n: sim.particles.len(),
             threads: rayon::current_num_threads(),
@@ -99,7 +99,7 @@ fn measure(
             t_trans_over_kt: trans / steps as f64,
             t_rot_over_kt: rot / steps as f64,
             solver_iterations: (solves > 0)
-                .then(|| (sim.solver_totals.1 - before.1) as f64 / solves as f64),
+                .then(|| (sim.solver_totals().1 - before.1) as f64 / solves as f64),
             lammps_ratio: args.lammps_s_per_tau_b.map(|peer| peer / s_per_tau_b),
             stages: sim.timers.since(&timers_before),
         })

@@ -28,7 +28,7 @@ pub fn write_beside(dataset: &Path, text: &str) -> anyhow::Result<EnsembleSummar
 /// The summary as text lines: one per observable with its figures.
 pub fn describe(summary: &EnsembleSummary) -> String {
     let cell = |v: Option<f64>, percent: bool| match v {
-        Some(v) if percent => format!("{:.2} %", 100.0 * v),
+        Some(v) if percent => crate::surrogate_text::percent(v),
         Some(v) => format!("{v:.2}"),
         None => "-".to_string(),
     };

@@ -29,6 +29,7 @@ pub use input::grid::{Grid, GridRun};
 pub use input::scene::{Scene, SceneFile};
 pub use integrate::simulation::Simulation;
 pub use integrate::timestep::{DtLimit, TimeStep};
-pub use run::{RunOptions, RunOutcome, RunSummary};
+pub use output::run_summary::{RunOutcome, RunSummary};
+pub use run::RunOptions;
 pub use sampling::bin_averages::BinAverages;
 pub use state::Vec3;

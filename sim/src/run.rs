@@ -6,16 +6,15 @@ use crate::input::packing::random_packing_watched;
 use crate::input::scene::{Scene, SceneFile};
 use crate::integrate::simulation::{Simulation, SystemState};
 use crate::integrate::stage_timers::Stage;
-use crate::integrate::timestep::TimeStep;
 use crate::output::checkpoint;
 use crate::output::result_files::SNAPSHOT_SUMS;
+use crate::output::run_summary::{RunOutcome, RunSummary};
 use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::block_sums::BlockSums;
-use crate::sampling::conventions::Conventions;
 use crate::sampling::shear_rheology::ShearRheology;
 use crate::sampling::snapshot::{self, Sampler};
-use crate::sampling::steady_state::{Drift, SteadyState};
-use crate::sampling::stress_checks::{stress_checks, StressChecks};
+use crate::sampling::steady_state::SteadyState;
+use crate::sampling::stress_checks::stress_checks;
 use crate::state::particles::Particles;
 use crate::state::Vec3;
 use rand::SeedableRng;
@@ -106,59 +105,6 @@ struct RunState {
 struct Checkpoint {
     run: RunState,
     system: SystemState,
-}
-
-/// What a finished run reports besides its profile (written to summary.json).
-#[derive(Clone, Debug, Serialize)]
-pub struct RunSummary {
-    pub name: String,
-    pub n_particles: usize,
-    pub phi: f64,
-    pub phi_actual: f64,
-    pub stokes: f64,
-    /// Brownian scales (kT, tau_B, tau_I, Peclet number) of a scene with `kT > 0`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub thermal: Option<crate::input::thermal_scales::ThermalScales>,
-    pub dt: f64,
-    pub dt_limit: String,
-    pub timestep: TimeStep,
-    pub steps: u64,
-    pub strain_total: f64,
-    pub strain_to_steady: f64,
-    pub steady_drift: Vec<Drift>,
-    pub snapshots: usize,
-    pub wall_s: f64,
-    pub particle_steps_per_s: f64,
-    pub momentum_residual: Option<f64>,
-    /// The independent checks of the bin-averaged stress.
-    pub stress_checks: StressChecks,
-    /// Box totals of a homogeneous-shear scene (docs/physics.md section 10).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub shear: Option<ShearRheology>,
-    /// Mean overlap over contacts, averaged over the steady snapshots (units a).
-    pub mean_overlap: f64,
-    /// Largest overlap ratio seen at a steady snapshot (overlap / smaller radius).
-    pub max_overlap: f64,
-    pub list_builds: u64,
-    /// Mean conjugate-gradient iterations per implicit step (absent for the explicit
-    /// scheme); counted since the last start or restart.
-    pub solver_iterations_mean: Option<f64>,
-    pub timers: crate::integrate::stage_timers::StageTimers,
-    pub threads: usize,
-    pub undefined_bins: Vec<usize>,
-    pub warnings: Vec<String>,
-    pub stress_convention: &'static str,
-    /// The definitions of the observables in the profile.
-    pub observables: Conventions,
-    pub code_version: &'static str,
-}
-
-/// Result of a completed run.
-pub struct RunOutcome {
-    pub profile: BinAverages,
-    pub summary: RunSummary,
-    /// The averaged snapshot sums, from which the profile under any convention follows.
-    pub sums: BlockSums,
 }
 
 /// The initial state: a random non-overlapping packing at rest, from the scene's seed.

@@ -4,7 +4,8 @@
 //! reference (docs/physics.md section 7). The errors of the partial averages against the
 //! reference are the report's business; this module only samples.
 use crate::input::scene::Scene;
-use crate::run::{Phase, RunOptions, RunSummary};
+use crate::output::run_summary::RunSummary;
+use crate::run::{Phase, RunOptions};
 use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::block_sums::BlockSums;
 use crate::sampling::snapshot::{field::FIELDS, Sampler};

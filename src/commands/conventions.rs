@@ -83,7 +83,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 "0".to_string()
             } else {
                 let max = r.iter().fold(0.0f64, |m, &x| m.max(x));
-                format!("{} / {}", percent(median(r.clone())), percent(max))
+                format!(
+                    "{} / {}",
+                    significant_percent(median(r.clone())),
+                    significant_percent(max)
+                )
             };
             let _ = write!(table, " {cell} |");
         }
@@ -94,7 +98,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// A relative difference as a percentage with two significant digits.
-fn percent(x: f64) -> String {
+fn significant_percent(x: f64) -> String {
     let p = 100.0 * x;
     if p >= 10.0 {
         format!("{p:.0} %")

@@ -7,6 +7,7 @@ pub mod extended_xyz;
 pub mod frame_writer;
 pub mod lammps_dump;
 pub mod result_files;
+pub mod run_summary;
 pub mod snapshot_cell;
 pub mod snapshot_columns;
 pub mod snapshot_format;

@@ -5,7 +5,7 @@
 use crate::error::SimError;
 use crate::input::scene::{Scene, SceneFile};
 use crate::output::atomic_write::write_atomic;
-use crate::run::{RunOutcome, RunSummary};
+use crate::output::run_summary::{RunOutcome, RunSummary};
 use crate::sampling::bin_averages::BinAverages;
 use crate::sampling::block_sums::BlockSums;
 use schema::columns::{self as dataset_columns, OBSERVABLES};

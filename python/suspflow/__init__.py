@@ -93,8 +93,8 @@ def simulate(
     progress: Union[bool, Callable[[Dict[str, Any]], None]] = True,
 ) -> Dict[str, Any]:
     """Runs a scene to its steady-state profile and writes the files of ``suspflow simulate``
-    into ``out``: ``profile.csv`` (one row per bin), ``summary.json``, ``snapshot_sums.json``
-    and ``checkpoint.json``; with ``snapshot=N`` a particle frame every N samples to
+    into ``out``: ``profile.csv`` (one row per bin), ``stress.csv`` (the stress parts per
+    bin), ``summary.json``, ``snapshot_sums.json`` and ``checkpoint.json``; with ``snapshot=N`` a particle frame every N samples to
     ``frames.xyz`` (``snapshot_format="xyz"``, extended XYZ) or ``frames.lammpstrj``
     (``"lammps"``, LAMMPS text dump), positions in a, velocities in a/time, spins in 1/time.
 

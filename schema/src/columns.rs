@@ -89,6 +89,26 @@ pub const OBSERVABLES: [&str; 11] = [
     U, GDOT, SIGMA_XY, P, PHI_LOC, J, MU, THETA, DELTA_V, F_X, COUNT,
 ];
 
+/// The parts of the stress, in table order (a run's `stress.csv`: `y`, then each part followed
+/// by its standard error; its box totals in `summary.json`): the contact springs', the
+/// lubrication's stresslets, which sum to the profile's `sigma_xy` and `P` under the default
+/// `pairs` stress convention, the Stokes drag's (added under `pairs+drag`; it is traceless:
+/// no `P`), and the structural Brownian stress (thesis eq 3.54), which is part of none.
+pub const STRESS_PARTS: [&str; 7] = [
+    "sigma_xy_contact",
+    "P_contact",
+    "sigma_xy_lubrication",
+    "P_lubrication",
+    "sigma_xy_drag",
+    "sigma_xy_brownian",
+    "P_brownian",
+];
+
+/// The header line of a run's stress-parts table (without the line break).
+pub fn stress_parts_header() -> String {
+    with_standard_errors(&[Y], &STRESS_PARTS).join(",")
+}
+
 /// The name of the standard-error column of `observable`.
 pub fn standard_error(observable: &str) -> String {
     format!("{observable}_se")
@@ -111,10 +131,15 @@ pub fn ensemble_header() -> Vec<String> {
 
 /// `first`, then every observable followed by its standard error.
 fn with_observables(first: &[&str]) -> Vec<String> {
+    with_standard_errors(first, &OBSERVABLES)
+}
+
+/// `first`, then each of `values` followed by its standard error.
+fn with_standard_errors(first: &[&str], values: &[&str]) -> Vec<String> {
     let mut names: Vec<String> = first.iter().map(|s| s.to_string()).collect();
-    for o in OBSERVABLES {
-        names.push(o.to_string());
-        names.push(standard_error(o));
+    for v in values {
+        names.push(v.to_string());
+        names.push(standard_error(v));
     }
     names
 }

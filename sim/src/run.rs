@@ -15,6 +15,7 @@ use crate::sampling::shear_rheology::ShearRheology;
 use crate::sampling::snapshot::{self, Sampler};
 use crate::sampling::steady_state::SteadyState;
 use crate::sampling::stress_checks::stress_checks;
+use crate::sampling::stress_parts::StressParts;
 use crate::state::particles::Particles;
 use crate::state::Vec3;
 use rand::SeedableRng;
@@ -302,12 +303,7 @@ pub fn run(
                     message: "was written for a different scene; remove it or drop --resume".into(),
                 });
             }
-            if st
-                .averaging
-                .sums
-                .iter()
-                .any(|s| s.len() != snapshot::field::FIELDS * scene.n_bins)
-            {
+            if !st.averaging.fits(scene.n_bins) {
                 return Err(SimError::Checkpoint {
                     path: path.display().to_string(),
                     message: "holds snapshot sums of an older layout; remove it or drop --resume"
@@ -429,6 +425,7 @@ pub fn run(
         }
     }
     let profile = BinAverages::from_blocks(&ctx, &st.averaging)?;
+    let stress = StressParts::from_blocks(&ctx, &st.averaging);
     let wall_s = wall_before + started.elapsed().as_secs_f64();
     let mut warnings = scene.warnings.clone();
     let undefined_bins = profile.undefined_bins();
@@ -456,6 +453,7 @@ pub fn run(
         particle_steps_per_s: sim.particles.len() as f64 * sim.step as f64 / wall_s.max(1e-9),
         momentum_residual: profile.momentum_residual,
         stress_checks: stress_checks(&ctx, &st.averaging),
+        stress_parts: stress.box_totals.clone(),
         shear: scene
             .shear_rate()
             .map(|g| ShearRheology::from_blocks(&ctx, &st.averaging, g)),
@@ -489,6 +487,7 @@ pub fn run(
     Ok(RunOutcome {
         profile,
         summary,
+        stress,
         sums: st.averaging,
     })
 }

@@ -408,3 +408,60 @@ fn steady_quick_scene_passes_the_stress_checks() {
     assert!(c.balance_residual.unwrap() < 0.15, "{c:?}");
     assert!(c.sigma_yy_chi2 < 3.0 && c.sigma_yy_max_z < 4.0, "{c:?}");
 }
+
+/// The stress parts of a run (docs/physics.md section 11): contact and lubrication add up
+/// to the profile's stress (the default `pairs` convention) in every bin (an identity of the split: lubrication is
+/// the pair stresslet minus its contact part), the structural Brownian part is zero
+/// without kT, and at equilibrium (tiny_brownian, phi 0.45) the structural Brownian
+/// pressure and the contact springs' pressure, two estimates of the same contact virial
+/// that share no code (one counts pairs in a shell, the other sums spring forces), agree.
+#[test]
+fn stress_parts_add_up_and_the_brownian_part_needs_kt() {
+    let part = |out: &sim::output::run_summary::RunOutcome, name: &str| {
+        let q = schema::columns::STRESS_PARTS
+            .iter()
+            .position(|c| *c == name)
+            .unwrap();
+        out.stress.bins[q]
+            .iter()
+            .map(|e| e.mean)
+            .collect::<Vec<f64>>()
+    };
+    let out = run(&tiny(), &RunOptions::default(), &mut |_, _| {}).unwrap();
+    let (c, l) = (
+        part(&out, "sigma_xy_contact"),
+        part(&out, "sigma_xy_lubrication"),
+    );
+    assert!(part(&out, "sigma_xy_drag").iter().any(|v| *v != 0.0));
+    for (k, sigma) in out.profile.mean.sigma_xy.iter().enumerate() {
+        let sum = c[k] + l[k];
+        assert!(
+            (sum - sigma).abs() < 1e-9 * sigma.abs().max(1e-12),
+            "bin {k}: {sum} vs {sigma}"
+        );
+    }
+    assert!(c.iter().any(|v| *v != 0.0) && l.iter().any(|v| *v != 0.0));
+    assert!(part(&out, "P_brownian").iter().all(|v| *v == 0.0));
+    for (k, p) in out.profile.mean.p.iter().enumerate() {
+        let sum = part(&out, "P_contact")[k] + part(&out, "P_lubrication")[k];
+        assert!((sum - p).abs() < 1e-9 * p.abs(), "bin {k}: P {sum} vs {p}");
+    }
+
+    let out = run(
+        &test_scene("tiny_brownian.toml"),
+        &RunOptions::default(),
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let (brownian, contact) = (
+        out.summary.stress_parts["P_brownian"],
+        out.summary.stress_parts["P_contact"],
+    );
+    println!("tiny_brownian: P_brownian {brownian:?}, P_contact {contact:?}");
+    assert!(brownian.mean > 0.0);
+    let se = (brownian.se.powi(2) + contact.se.powi(2)).sqrt();
+    assert!(
+        (brownian.mean - contact.mean).abs() < 0.1 * contact.mean + 3.0 * se,
+        "structural Brownian pressure {brownian:?} vs contact pressure {contact:?}"
+    );
+}

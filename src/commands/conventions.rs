@@ -41,6 +41,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let name = sums.scene.name.clone();
         let scene = Scene::from_file(sums.scene, false)
             .with_context(|| format!("the scene of {}", dir.display()))?;
+        if !sums.sums.fits(scene.n_bins) {
+            anyhow::bail!(
+                "{} holds snapshot sums of another layout (an older suspflow, or another bin \
+                 count): run the scene again to get sums this version reads",
+                path.display()
+            );
+        }
         let ctx = BinningContext::for_scene(&scene);
         for effect in convention_effects(&ctx, &sums.sums)? {
             match pooled.iter_mut().find(|(o, _)| *o == effect.option) {

@@ -1,5 +1,6 @@
 //! The force terms a scene switches on, with per-species-pair constants precomputed, and
 //! the load of one pair and of one particle (docs/physics.md section 4).
+use crate::forces::brownian_shell;
 use crate::forces::contact::{ContactLaw, ContactMotion};
 use crate::forces::drag;
 use crate::forces::lubrication::{gap, LubricationCoefficients, PairResistance};
@@ -15,7 +16,8 @@ use crate::state::Vec3;
 pub struct PairConstants {
     /// `a_i + a_j`: contact distance.
     pub contact_distance: f64,
-    /// Square of the interaction cut-off (lubrication `xi_max`, or contact).
+    /// Square of the interaction cut-off (lubrication `xi_max`, or contact; at least the
+    /// structural Brownian stress's shell in a Brownian scene).
     pub reach_squared: f64,
     /// Lubrication prefactors, when lubrication is on.
     pub lubrication: Option<LubricationCoefficients>,
@@ -27,6 +29,9 @@ pub struct PairConstants {
 #[derive(Clone, Copy, Debug)]
 pub struct PairOutcome {
     pub load: PairLoad,
+    /// The contact part of `load.force_i` (normal and tangential springs); the rest of it
+    /// is lubrication (docs/physics.md section 11, the stress parts).
+    pub contact_force: Vec3,
     /// Minimum-image separation `x_j - x_i` (through the sliding images of a sheared box).
     pub r: Vec3,
     /// Unit vector `r / |r|` from i to j.
@@ -41,6 +46,9 @@ pub struct PairOutcome {
 #[derive(Clone, Debug)]
 pub struct ForceField {
     pub eta: f64,
+    /// Thermal energy (0 = non-Brownian); the Brownian loads are
+    /// [`network_loads`](crate::forces::network_loads)'.
+    pub kt: f64,
     pub contact: Option<ContactLaw>,
     pub drag: bool,
     n_species: usize,
@@ -54,6 +62,7 @@ impl ForceField {
     pub fn from_file(file: &SceneFile) -> Self {
         let f = &file.forces;
         let eta = file.fluid.eta;
+        let kt = file.fluid.kt;
         let radii = &file.particles.radii;
         let n_species = radii.len();
         let mut pairs = Vec::with_capacity(n_species * n_species);
@@ -64,7 +73,10 @@ impl ForceField {
                 let lubrication = f
                     .lubrication
                     .then(|| LubricationCoefficients::new(a_i, a_j, eta, f.xi_min, f.xi_max));
-                let reach = f.reach(contact_distance);
+                let mut reach = f.reach(contact_distance);
+                if kt > 0.0 {
+                    reach = reach.max(brownian_shell::reach(a_i, a_j));
+                }
                 max_cutoff = max_cutoff.max(reach);
                 pairs.push(PairConstants {
                     contact_distance,
@@ -76,6 +88,7 @@ impl ForceField {
         }
         Self {
             eta,
+            kt,
             contact: f.contact.then(|| ContactLaw::new(f.k_n, f.mu_p)),
             drag: f.drag,
             n_species,
@@ -154,6 +167,7 @@ impl ForceField {
             .and_then(|lub| lub.resistance(gap(d, p.radius[i], p.radius[j])));
         let mut dv = p.vel[j] - p.vel[i];
         let mut load = PairLoad::default();
+        let mut contact_load = PairLoad::default();
         if image != 0 {
             // The image's extra velocity is fixed by the positions: its lubrication load
             // is part of this known load (the resistance is linear in the motion).
@@ -165,7 +179,7 @@ impl ForceField {
         }
         if let Some(contact) = &self.contact {
             if overlap > 0.0 {
-                load.force_i += contact.normal(overlap, &n);
+                contact_load.force_i = contact.normal(overlap, &n);
                 if let Some(s) = spring {
                     let motion = ContactMotion {
                         delta: overlap,
@@ -175,14 +189,16 @@ impl ForceField {
                         radius: [p.radius[i], p.radius[j]],
                     };
                     let t = contact.tangential(s, &motion, dt);
-                    load.add(&t);
+                    contact_load.add(&t);
                 }
             } else if let Some(s) = spring {
                 *s = Vec3::zeros();
             }
         }
+        load.add(&contact_load);
         Some(PairOutcome {
             load,
+            contact_force: contact_load.force_i,
             r,
             n,
             overlap,

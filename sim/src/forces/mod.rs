@@ -1,6 +1,7 @@
 //! The force laws (docs/physics.md, section Forces): contact springs, Stokes drag,
 //! Kim-Karrila lubrication, and their accumulation over the neighbour list.
 
+pub mod brownian_shell;
 pub mod contact;
 pub mod drag;
 pub mod force_accumulation;

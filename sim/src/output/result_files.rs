@@ -1,5 +1,6 @@
 //! Result files: `profile.csv` (one row per bin, the column names of docs/physics.md
-//! section 8 with `_se` standard errors), `summary.json`, `snapshot_sums.json` (the scene and
+//! section 8 with `_se` standard errors), `stress.csv` (the parts of the stress per bin,
+//! section 11), `summary.json`, `snapshot_sums.json` (the scene and
 //! its averaged snapshot sums, from which the profile follows under any observable
 //! convention). The particle frames are [`snapshot_format`](crate::output::snapshot_format)'s.
 use crate::error::SimError;
@@ -8,6 +9,7 @@ use crate::output::atomic_write::write_atomic;
 use crate::output::run_summary::{RunOutcome, RunSummary};
 use crate::sampling::bin_averages::BinAverages;
 use crate::sampling::block_sums::BlockSums;
+use crate::sampling::stress_parts::StressParts;
 use schema::columns::{self as dataset_columns, OBSERVABLES};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -50,6 +52,20 @@ pub fn profile_rows(scene: &Scene, profile: &BinAverages, summary: &RunSummary) 
     out
 }
 
+/// The rows of a stress-parts table (no header): the bin centre, then each part of
+/// [`STRESS_PARTS`](schema::columns::STRESS_PARTS) and its standard error.
+pub fn stress_rows(y: &[f64], stress: &StressParts) -> String {
+    let mut out = String::new();
+    for (k, y) in y.iter().enumerate() {
+        out.push_str(&num(*y));
+        for part in &stress.bins {
+            let _ = write!(out, ",{},{}", num(part[k].mean), num(part[k].se));
+        }
+        out.push('\n');
+    }
+    out
+}
+
 /// Name of the snapshot-sums file in a result directory.
 pub const SNAPSHOT_SUMS: &str = "snapshot_sums.json";
 
@@ -60,7 +76,8 @@ pub struct SnapshotSums {
     pub sums: BlockSums,
 }
 
-/// Writes `dir/profile.csv`, `dir/summary.json` and `dir/snapshot_sums.json` atomically.
+/// Writes `dir/profile.csv`, `dir/stress.csv`, `dir/summary.json` and
+/// `dir/snapshot_sums.json` atomically.
 pub fn write_results(dir: &Path, scene: &Scene, outcome: &RunOutcome) -> Result<(), SimError> {
     let err = |e: std::io::Error| SimError::Output {
         path: dir.display().to_string(),
@@ -73,6 +90,12 @@ pub fn write_results(dir: &Path, scene: &Scene, outcome: &RunOutcome) -> Result<
         profile_rows(scene, &outcome.profile, &outcome.summary)
     );
     write_atomic(&dir.join("profile.csv"), csv.as_bytes())?;
+    let stress = format!(
+        "{}\n{}",
+        dataset_columns::stress_parts_header(),
+        stress_rows(&outcome.profile.y, &outcome.stress)
+    );
+    write_atomic(&dir.join("stress.csv"), stress.as_bytes())?;
     write_json(&dir.join("summary.json"), &outcome.summary)?;
     let sums = SnapshotSums {
         scene: scene.file.clone(),

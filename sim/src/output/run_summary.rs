@@ -4,12 +4,14 @@ use crate::input::thermal_scales::ThermalScales;
 use crate::integrate::stage_timers::StageTimers;
 use crate::integrate::timestep::TimeStep;
 use crate::sampling::bin_averages::BinAverages;
-use crate::sampling::block_sums::BlockSums;
+use crate::sampling::block_sums::{BlockSums, Estimate};
 use crate::sampling::conventions::Conventions;
 use crate::sampling::shear_rheology::ShearRheology;
 use crate::sampling::steady_state::Drift;
 use crate::sampling::stress_checks::StressChecks;
+use crate::sampling::stress_parts::StressParts;
 use serde::Serialize;
+use std::collections::BTreeMap;
 
 /// What a finished run reports besides its profile (written to summary.json).
 #[derive(Clone, Debug, Serialize)]
@@ -35,6 +37,9 @@ pub struct RunSummary {
     pub momentum_residual: Option<f64>,
     /// The independent checks of the bin-averaged stress.
     pub stress_checks: StressChecks,
+    /// Box totals of the stress parts (contact, lubrication, drag, structural Brownian;
+    /// docs/physics.md section 11), by the names of `stress.csv`'s columns.
+    pub stress_parts: BTreeMap<String, Estimate>,
     /// Box totals of a homogeneous-shear scene (docs/physics.md section 10).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shear: Option<ShearRheology>,
@@ -60,6 +65,8 @@ pub struct RunSummary {
 pub struct RunOutcome {
     pub profile: BinAverages,
     pub summary: RunSummary,
+    /// The parts of the stress, per bin and over the box.
+    pub stress: StressParts,
     /// The averaged snapshot sums, from which the profile under any convention follows.
     pub sums: BlockSums,
 }

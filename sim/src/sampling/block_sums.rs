@@ -3,6 +3,14 @@
 use crate::sampling::snapshot::field::FIELDS;
 use serde::{Deserialize, Serialize};
 
+/// A value of the summed snapshots and its standard error (spread of the block values /
+/// sqrt(blocks)).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Estimate {
+    pub mean: f64,
+    pub se: f64,
+}
+
 /// `blocks` consecutive groups of `per_block` snapshots, each holding the summed
 /// snapshot (`FIELDS x n_bins`).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -24,6 +32,12 @@ impl BlockSums {
             sums: vec![vec![0.0; FIELDS * n_bins]; blocks],
             taken: 0,
         }
+    }
+
+    /// Whether every block holds `FIELDS x n_bins` sums: false for sums of an older
+    /// snapshot layout, or of a scene with another bin count.
+    pub fn fits(&self, n_bins: usize) -> bool {
+        self.n_bins == n_bins && self.sums.iter().all(|s| s.len() == FIELDS * n_bins)
     }
 
     /// Number of snapshots when full.
@@ -56,5 +70,30 @@ impl BlockSums {
             }
         }
         t
+    }
+
+    /// Each number that `values(sums, snapshots)` makes of summed snapshots, with its
+    /// batch-means standard error: the mean from all snapshots, the error from the spread
+    /// of the per-block values (sample standard deviation over sqrt(blocks)).
+    pub fn estimates(&self, values: impl Fn(&[f64], usize) -> Vec<f64>) -> Vec<Estimate> {
+        let n = self.taken.min(self.capacity());
+        let mean = values(&self.total(), n);
+        let per_block: Vec<Vec<f64>> = self
+            .sums
+            .iter()
+            .map(|b| values(b, self.per_block))
+            .collect();
+        let m = per_block.len() as f64;
+        mean.iter()
+            .enumerate()
+            .map(|(c, &mean)| {
+                let avg = per_block.iter().map(|v| v[c]).sum::<f64>() / m;
+                let var = per_block.iter().map(|v| (v[c] - avg).powi(2)).sum::<f64>() / (m - 1.0);
+                Estimate {
+                    mean,
+                    se: (var / m).sqrt(),
+                }
+            })
+            .collect()
     }
 }

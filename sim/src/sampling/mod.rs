@@ -13,3 +13,4 @@ pub mod shear_rheology;
 pub mod snapshot;
 pub mod steady_state;
 pub mod stress_checks;
+pub mod stress_parts;

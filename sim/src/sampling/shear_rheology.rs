@@ -3,16 +3,9 @@
 //! macroscopic friction `mu` and the viscous number `J`, each with a batch-means standard
 //! error.
 use crate::sampling::bin_averages::BinningContext;
-use crate::sampling::block_sums::BlockSums;
+use crate::sampling::block_sums::{BlockSums, Estimate};
 use crate::sampling::snapshot::field::{SXX, SXY, SYY, SZZ};
 use serde::{Deserialize, Serialize};
-
-/// A box total and its standard error (spread of the block values / sqrt(blocks)).
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
-pub struct Estimate {
-    pub mean: f64,
-    pub se: f64,
-}
 
 /// Rheology of the whole box under the imposed shear rate. Stresses are the pair
 /// stresslets (contact and lubrication) over the box volume, positive in compression
@@ -56,29 +49,14 @@ impl ShearRheology {
     /// Box totals of the averaged snapshots in `blocks` at shear rate `gdot`: means from
     /// all snapshots, standard errors from the per-block values.
     pub fn from_blocks(ctx: &BinningContext, blocks: &BlockSums, gdot: f64) -> ShearRheology {
-        let n = blocks.taken.min(blocks.capacity());
-        let mean = values(ctx, &blocks.total(), n, gdot);
-        let per_block: Vec<[f64; 5]> = blocks
-            .sums
-            .iter()
-            .map(|b| values(ctx, b, blocks.per_block, gdot))
-            .collect();
-        let m = per_block.len() as f64;
-        let estimate = |c: usize| {
-            let avg = per_block.iter().map(|v| v[c]).sum::<f64>() / m;
-            let var = per_block.iter().map(|v| (v[c] - avg).powi(2)).sum::<f64>() / (m - 1.0);
-            Estimate {
-                mean: mean[c],
-                se: (var / m).sqrt(),
-            }
-        };
+        let e = blocks.estimates(|s, n| values(ctx, s, n, gdot).to_vec());
         ShearRheology {
             shear_rate: gdot,
-            sigma_xy: estimate(0),
-            p: estimate(1),
-            eta_r: estimate(2),
-            mu: estimate(3),
-            j: estimate(4),
+            sigma_xy: e[0],
+            p: e[1],
+            eta_r: e[2],
+            mu: e[3],
+            j: e[4],
         }
     }
 }

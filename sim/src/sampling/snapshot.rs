@@ -2,11 +2,13 @@
 //! built, under every convention at once: particle counts, velocities, streaming velocities,
 //! solid volumes, pair stresslet sums (method of planes), drag stresslets, plane stresses at
 //! the bin faces, drag forces, and the sums that give the velocity fluctuations (about the
-//! local mean of section 6.3 and about an interpolated mean profile).
-use crate::forces::drag;
+//! local mean of section 6.3 and about an interpolated mean profile), and the parts of the
+//! pair stress: contact springs, and the structural Brownian stress (section 11).
+use crate::forces::{brownian_shell, drag};
 use crate::integrate::simulation::Simulation;
 use crate::sampling::binning::Bins;
 use crate::sampling::local_velocity::LocalVelocity;
+use nalgebra::Matrix3;
 
 /// Half-width of the window of the local mean velocity `u*_i`, in mean radii (thesis
 /// section 6.3: `+-0.1 a`).
@@ -20,7 +22,8 @@ pub mod field {
     pub const VX: usize = 1;
     /// Solid volume inside the slab (spherical caps).
     pub const VOLUME: usize = 2;
-    /// Pair stresslet sums (method of planes), `S_ab = -F_a r_b`.
+    /// Pair stresslet sums (method of planes), `S_ab = -F_a r_b`, components in the order
+    /// of [`TENSOR`](super::TENSOR).
     pub const SXX: usize = 3;
     pub const SYY: usize = 4;
     pub const SZZ: usize = 5;
@@ -45,8 +48,28 @@ pub mod field {
     /// Sum of `|v_x,i - u*_i|` over the bin's particles, `u*_i` the local mean velocity
     /// within [`LOCAL_WINDOW`](super::LOCAL_WINDOW) mean radii of `y_i`.
     pub const LOCAL_DU: usize = 22;
+    /// The contact springs' part of the pair stresslet sums (xx, yy, zz, xy from here on,
+    /// as `SXX..=SXY`); the rest of those sums is lubrication.
+    pub const CONTACT: usize = 23;
+    /// Structural Brownian stress sums (xx, yy, zz, xy from here on): `w n n^T` over the
+    /// pairs in the shell, shared between bins like the stresslets, with the weight `w` of
+    /// [`brownian_shell::weight`](crate::forces::brownian_shell::weight). Zero when kT = 0.
+    pub const BROWNIAN: usize = 27;
     /// Number of fields.
-    pub const FIELDS: usize = 23;
+    pub const FIELDS: usize = 31;
+}
+
+/// The stress components a snapshot keeps, in field order from `SXX`, `CONTACT` and
+/// `BROWNIAN`: (row, column) of xx, yy, zz, xy.
+pub const TENSOR: [(usize, usize); 4] = [(0, 0), (1, 1), (2, 2), (0, 1)];
+
+/// Adds `frac` times the components [`TENSOR`] of `s` to the bin `k` of the four fields from
+/// `base`.
+#[inline]
+fn add_tensor(out: &mut [f64], nb: usize, base: usize, k: usize, frac: f64, s: &Matrix3<f64>) {
+    for (c, &(a, b)) in TENSOR.iter().enumerate() {
+        out[(base + c) * nb + k] += frac * s[(a, b)];
+    }
 }
 
 /// Takes snapshots of a simulation into per-bin sums; keeps its scratch buffers.
@@ -126,12 +149,19 @@ fn accumulate(sim: &Simulation, bins: &Bins, local_du: &[f64], out: &mut [f64]) 
                 continue;
             };
             let s = o.load.stresslet(&o.r);
+            let contact = -o.contact_force * o.r.transpose();
+            let d = o.r.norm();
+            let brownian = (sim.field.kt > 0.0)
+                .then(|| brownian_shell::weight(sim.field.kt, p.radius[i], p.radius[j], d))
+                .flatten()
+                .map(|w| w * o.n * o.n.transpose());
             let y_i = p.pos[i].y;
             bins.share_segment(y_i, o.r.y, |k, frac| {
-                out[SXX * nb + k] += frac * s[(0, 0)];
-                out[SYY * nb + k] += frac * s[(1, 1)];
-                out[SZZ * nb + k] += frac * s[(2, 2)];
-                out[SXY * nb + k] += frac * s[(0, 1)];
+                add_tensor(out, nb, SXX, k, frac, &s);
+                add_tensor(out, nb, CONTACT, k, frac, &contact);
+                if let Some(b) = &brownian {
+                    add_tensor(out, nb, BROWNIAN, k, frac, b);
+                }
             });
             let (lo, hi) = if o.r.y > 0.0 {
                 (y_i, y_i + o.r.y)

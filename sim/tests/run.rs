@@ -139,7 +139,9 @@ fn a_checkpoint_of_another_scene_is_refused() {
     let other = Scene::from_file(other, false).unwrap();
     STOP.store(false, Ordering::SeqCst);
     match rows(&other, &opts, None) {
-        Err(SimError::Checkpoint { message, .. }) => assert!(message.contains("different scene")),
+        Err(SimError::CheckpointUnusable { message, .. }) => {
+            assert!(message.contains("different scene"))
+        }
         r => panic!("expected a checkpoint error, got {:?}", r.map(|_| ())),
     }
     std::fs::remove_dir_all(&dir).ok();
@@ -206,7 +208,7 @@ fn a_damaged_checkpoint_is_refused_saying_what_is_wrong() {
         damage(&mut damaged);
         std::fs::write(&checkpoint, serde_json::to_vec(&damaged).unwrap()).unwrap();
         match rows(&scene, &opts, None) {
-            Err(SimError::Checkpoint { message, .. }) => assert!(
+            Err(SimError::CheckpointUnusable { message, .. }) => assert!(
                 message.contains("is damaged") && message.contains(expected),
                 "{message} should say {expected}"
             ),

@@ -273,6 +273,19 @@ mod tests {
 
     const HEADER: &str = "scene_id,profile,y,mu";
 
+    /// Every text of `cases` is refused with a message holding its expected part.
+    fn assert_refused(cases: &[(String, &str)]) {
+        for (text, expected) in cases {
+            let err = format!(
+                "{:#}",
+                DatasetFile::parse(text)
+                    .err()
+                    .unwrap_or_else(|| panic!("accepted {text:?}"))
+            );
+            assert!(err.contains(expected), "{err} should mention {expected}");
+        }
+    }
+
     #[test]
     fn merge_keeps_bytes_and_orders_scenes() {
         let mut a = DatasetFile::parse(&format!("{HEADER}\ng_002,\"sin(y)\",1e0,5e-1\n")).unwrap();
@@ -318,15 +331,7 @@ mod tests {
                 "... (500001 bytes)` is not a finite number",
             ),
         ];
-        for (text, expected) in cases {
-            let err = format!(
-                "{:#}",
-                DatasetFile::parse(&text)
-                    .err()
-                    .unwrap_or_else(|| panic!("accepted {text:?}"))
-            );
-            assert!(err.contains(expected), "{err} should mention {expected}");
-        }
+        assert_refused(&cases);
     }
 
     #[test]
@@ -405,15 +410,7 @@ mod tests {
                 "has other bins (1 from y = 2) than seed 1 (2 from y = 1)",
             ),
         ];
-        for (text, expected) in cases {
-            let err = format!(
-                "{:#}",
-                DatasetFile::parse(&text)
-                    .err()
-                    .unwrap_or_else(|| panic!("accepted {text:?}"))
-            );
-            assert!(err.contains(expected), "{err} should mention {expected}");
-        }
+        assert_refused(&cases);
         // Across files: a second grid's run under the same scene name and another seed.
         let mut a = DatasetFile::parse(&format!("{RUN}\n{}", run(1, "0.45", &["1", "3"]))).unwrap();
         let b = DatasetFile::parse(&format!("{RUN}\n{}", run(2, "0.44", &["1", "3"]))).unwrap();

@@ -139,7 +139,9 @@ fn a_checkpoint_of_another_scene_is_refused() {
     let other = Scene::from_file(other, false).unwrap();
     STOP.store(false, Ordering::SeqCst);
     match rows(&other, &opts, None) {
-        Err(SimError::Checkpoint { message, .. }) => assert!(message.contains("different scene")),
+        Err(SimError::CheckpointUnusable { message, .. }) => {
+            assert!(message.contains("different scene"))
+        }
         r => panic!("expected a checkpoint error, got {:?}", r.map(|_| ())),
     }
     std::fs::remove_dir_all(&dir).ok();
@@ -206,7 +208,7 @@ fn a_damaged_checkpoint_is_refused_saying_what_is_wrong() {
         damage(&mut damaged);
         std::fs::write(&checkpoint, serde_json::to_vec(&damaged).unwrap()).unwrap();
         match rows(&scene, &opts, None) {
-            Err(SimError::Checkpoint { message, .. }) => assert!(
+            Err(SimError::CheckpointUnusable { message, .. }) => assert!(
                 message.contains("is damaged") && message.contains(expected),
                 "{message} should say {expected}"
             ),
@@ -407,4 +409,27 @@ fn steady_quick_scene_passes_the_stress_checks() {
     let c = out.summary.stress_checks;
     assert!(c.balance_residual.unwrap() < 0.15, "{c:?}");
     assert!(c.sigma_yy_chi2 < 3.0 && c.sigma_yy_max_z < 4.0, "{c:?}");
+}
+
+/// Issue 31: a run interrupted before its packing is done says so (nothing to save), not
+/// "interrupted at step 0" with a checkpoint that does not exist.
+#[test]
+fn an_interrupt_during_the_packing_saves_nothing_and_says_so() {
+    static STOP: AtomicBool = AtomicBool::new(true);
+    let dir = std::env::temp_dir().join(format!("suspflow-packing-stop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let opts = RunOptions {
+        checkpoint: Some(dir.join("checkpoint.json")),
+        resume: true,
+        interrupt: Some(&STOP),
+        ..RunOptions::default()
+    };
+    match rows(&tiny(), &opts, None) {
+        Err(e @ SimError::InterruptedPacking) => {
+            assert!(e.to_string().contains("nothing to save"), "{e}")
+        }
+        r => panic!("expected an interrupted packing, got {:?}", r.map(|_| ())),
+    }
+    assert!(!dir.join("checkpoint.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
 }

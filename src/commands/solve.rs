@@ -15,7 +15,9 @@ use sim::input::scene::Scene;
 use solver::{fit_local_rheology, LearnedClosure, ProfileProblem, ProfileSolution, SolverError};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use surrogate::{relative_l2_error, Dataset, Predictor};
+use surrogate::{
+    relative_l2_error, Dataset, DomainCheck, Mapping, Predictor, Samples, TrainingDomain,
+};
 
 /// Starting pressure of the Newton iterations (units eta/time; the training scenes have
 /// 0.03-0.2).
@@ -64,6 +66,11 @@ struct Summary<'a> {
     /// Largest balance residual, in units of the forcing's drag density.
     residual: f64,
     pressure: f64,
+    /// Bins outside the closure's training domain (columns `in_domain`, `domain_distance`
+    /// of profile.csv): their closure values are extrapolations.
+    bins_outside_domain: usize,
+    /// Largest `domain_distance` over the bins (<= 1 is near enough the training rows).
+    largest_domain_distance: f64,
     wall_ms: f64,
     code_version: &'a str,
 }
@@ -86,10 +93,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .train
         .clone()
         .unwrap_or_else(|| PathBuf::from(&predictor.meta().training_data.source));
-    let learned = LearnedClosure::new(predictor)?;
     let train_data =
         Dataset::read_csv(&train).context("reading the training data for the local rheology")?;
     let law = fit_local_rheology(&train_data)?;
+    let domain = match args.closure {
+        ClosureKind::Learned => predictor.domain().clone(),
+        ClosureKind::Local => TrainingDomain::fit(&Samples::from_dataset(
+            &train_data,
+            Mapping::by_name("dv")?,
+        )?)?,
+    };
+    let features = predictor.meta().features.clone();
+    let learned = LearnedClosure::new(predictor)?;
     let started = Instant::now();
     let solution = match args.closure {
         ClosureKind::Learned => problem.solve(&learned, START_PRESSURE),
@@ -106,7 +121,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let wall_ms = started.elapsed().as_secs_f64() * 1e3;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    write_profile(&profile_csv, &scene, &problem, &solution)?;
+    let checks = domain_checks(&domain, &features, scene.file.particles.phi, &solution)?;
+    write_profile(&profile_csv, &scene, &problem, &solution, &checks)?;
+    let outside = checks.iter().filter(|c| !c.inside()).count();
     let summary = Summary {
         scene: &scene.file.name,
         closure: args.closure,
@@ -114,6 +131,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         iterations: solution.iterations,
         residual: solution.residual,
         pressure: solution.pressure,
+        bins_outside_domain: outside,
+        largest_domain_distance: checks.iter().map(|c| c.distance).fold(0.0, f64::max),
         wall_ms,
         code_version: crate::CODE_VERSION,
     };
@@ -132,6 +151,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         wall_ms,
         profile_csv.display()
     );
+    if outside > 0 {
+        eprintln!(
+            "warning: {outside} of {} bins lie outside the training domain of the {:?} closure \
+             (largest domain distance {:.2}, 1 = the threshold): their closure values are \
+             extrapolations (profile.csv column in_domain = false)",
+            summary.bins, args.closure, summary.largest_domain_distance
+        );
+    }
     if let Some(path) = &args.compare {
         let (other, other_solution) = match args.closure {
             ClosureKind::Learned => (ClosureKind::Local, problem.solve(&law, START_PRESSURE)),
@@ -160,12 +187,38 @@ fn with_hint(e: SolverError, closure: ClosureKind) -> anyhow::Error {
     }
 }
 
-/// Writes the solution with the dataset's column names; standard errors are left out.
+/// Where each solved bin lies relative to the closure's training rows, in the features of
+/// the `dv` mapping (`features`, its order): J and Delta_v of the solution, the scene's phi.
+/// The learned closure's domain is the model's own; the local closure's is fitted on its
+/// training file (the law is fitted on those rows).
+fn domain_checks(
+    domain: &TrainingDomain,
+    features: &[String],
+    phi: f64,
+    s: &ProfileSolution,
+) -> anyhow::Result<Vec<DomainCheck>> {
+    let columns = features
+        .iter()
+        .map(
+            |name| match Observable::from_name(name).and_then(|o| s.column(o)) {
+                Some(values) => Ok(values.to_vec()),
+                None if name == col::PHI => Ok(vec![phi; s.j.len()]),
+                None => bail!("a solve gives no `{name}` per bin for the training-domain check"),
+            },
+        )
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let rows = Array2::from_shape_fn((s.j.len(), columns.len()), |(k, f)| columns[f][k]);
+    Ok(domain.check(rows.view())?)
+}
+
+/// Writes the solution with the dataset's column names and the bins' training-domain check
+/// (`in_domain`, `domain_distance`, as `predict` writes them); standard errors are left out.
 fn write_profile(
     path: &Path,
     scene: &Scene,
     problem: &ProfileProblem,
     s: &ProfileSolution,
+    checks: &[DomainCheck],
 ) -> anyhow::Result<()> {
     let mut w =
         csv::Writer::from_path(path).with_context(|| format!("writing {}", path.display()))?;
@@ -185,6 +238,8 @@ fn write_profile(
         col::MU,
         col::DELTA_V,
         col::F_X,
+        col::IN_DOMAIN,
+        col::DOMAIN_DISTANCE,
     ])?;
     let f = &scene.file;
     for (k, y) in problem.bin_centres().into_iter().enumerate() {
@@ -208,6 +263,10 @@ fn write_profile(
             format!("{:e}", f.particles.phi),
         ];
         record.extend(numbers.iter().map(|x| format!("{x:e}")));
+        record.extend([
+            checks[k].inside().to_string(),
+            format!("{:e}", checks[k].distance),
+        ]);
         w.write_record(&record)?;
     }
     w.flush()?;

@@ -41,6 +41,18 @@ pub enum SolverError {
         tolerance: f64,
     },
 
+    /// Newton's method stalled from `u = u_inf`, and the continuation from the local law
+    /// stalled too, at weight `reached` of the closure.
+    #[error(
+        "{direct}; the continuation from the local law then stalled at weight {reached:.3} of \
+         the closure (steps down to 1/64; largest scaled residual {residual:.3e})"
+    )]
+    ContinuationStalled {
+        direct: Box<SolverError>,
+        reached: f64,
+        residual: f64,
+    },
+
     /// A problem, scene or closure the solver cannot take.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

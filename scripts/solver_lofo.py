@@ -8,7 +8,9 @@ relative L2 error (eq 6.6, unscaled) of u, phi_loc and mu, the mean absolute mu 
 the plug bins (|gdot| below a tenth of the scene's largest, simulated), and the largest
 absolute mu error at the plug centres (the plug bins where |gdot| has a local minimum).
 Families of further tables (--held-out) are solved with the models trained on the whole
-training table, which never saw them. The statistics live in the binary; this script
+training table, which never saw them. With --shipped DIR and --check TABLE..., every scene
+of those tables is also solved with the models of DIR (in sample where DIR was trained on
+them): whether each closure converges, and why not. The statistics live in the binary; this script
 only runs it and tabulates.
 
     python3 scripts/solver_lofo.py --suspflow target/release/suspflow \
@@ -116,11 +118,19 @@ def main():
     ap.add_argument("--train", required=True)
     ap.add_argument("--held-out", nargs="*", default=[])
     ap.add_argument("--out", required=True)
+    ap.add_argument("--shipped", help="models directory for the convergence check")
+    ap.add_argument("--check", nargs="*", default=[])
+    ap.add_argument("--skip-lofo", action="store_true", help="only the convergence check")
     args = ap.parse_args()
     header, rows = read_table(args.train)
-    families = list(OrderedDict.fromkeys(r["profile"] for r in rows))
+    families = [] if args.skip_lofo else list(OrderedDict.fromkeys(r["profile"] for r in rows))
     work = tempfile.mkdtemp(prefix="solver_lofo.")
     results = []
+    checks = []
+    for path in args.check:
+        _, table = read_table(path)
+        evaluate(args.suspflow, work, os.path.basename(path), scenes_of(table),
+                 args.shipped, args.train, checks)
     for i, family in enumerate(families):
         keep = [r for r in rows if r["profile"] != family]
         train = os.path.join(work, f"train_without_{i}.csv")
@@ -134,7 +144,7 @@ def main():
                        check=True, capture_output=True)
         held = scenes_of([r for r in rows if r["profile"] == family])
         evaluate(args.suspflow, work, family, held, models, train, results)
-    if args.held_out:
+    if args.held_out and not args.skip_lofo:
         models = os.path.join(work, "models_all")
         subprocess.run([args.suspflow, "train", "--data", args.train, "--out", models,
                         "--mapping", "dv", "--mapping", "theta", "--no-tune", "--force"],
@@ -146,8 +156,8 @@ def main():
                 evaluate(args.suspflow, work, family, held, models, args.train, results)
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "results.json"), "w") as f:
-        json.dump(results, f, indent=1)
-    write_report(args, results)
+        json.dump({"held_out": results, "shipped": checks}, f, indent=1)
+    write_report(args, results, checks)
 
 
 def fmt(x, pct=True):
@@ -156,11 +166,12 @@ def fmt(x, pct=True):
     return f"{100 * x:.1f}" if pct else f"{x:.3f}"
 
 
-def write_report(args, results):
+def write_report(args, results, checks):
     lines = ["# Profile solver, one family left out", "",
              "Made by `scripts/solver_lofo.py` (its docstring gives the method):", "",
              "```sh", "python3 scripts/solver_lofo.py --suspflow target/release/suspflow "
              f"--train {args.train} " + (f"--held-out {' '.join(args.held_out)} " if args.held_out else "")
+             + (f"--shipped {args.shipped} --check {' '.join(args.check)} " if args.check else "")
              + f"--out {args.out}", "```", "",
              "Per family and closure, means over its scenes: relative L2 errors (eq 6.6, "
              "unscaled, %) of u, phi_loc and mu against the ensemble means; mean absolute mu "
@@ -201,6 +212,25 @@ def write_report(args, results):
             lines.append(f"- {r['scene']} did not converge: {r['error']}")
         if failed:
             lines.append("")
+    if checks:
+        lines += ["## Convergence with the shipped models", "",
+                  f"Every scene of {', '.join(args.check)} solved with `{args.shipped}` "
+                  "(in sample for the tables those models were trained on):", "",
+                  "| table | closure | scenes | converged | by continuation | iterations (mean) | ms (mean) |",
+                  "|---|---|---|---|---|---|---|"]
+        for table in OrderedDict.fromkeys(r["family"] for r in checks):
+            for closure in CLOSURES:
+                rs = [r for r in checks if r["family"] == table and r["closure"] == closure]
+                ok = [r for r in rs if "error" not in r]
+                cont = sum(1 for r in ok if r["continued"])
+                it = sum(r["iterations"] for r in ok) / len(ok) if ok else float("nan")
+                ms = sum(r["wall_ms"] for r in ok) / len(ok) if ok else float("nan")
+                lines.append(f"| {table} | {closure} | {len(rs)} | {len(ok)} | {cont} | {it:.1f} | {ms:.0f} |")
+        lines.append("")
+        for r in checks:
+            if "error" in r:
+                lines.append(f"- {r['family']} {r['scene']}, {r['closure']}: {r['error']}")
+        lines.append("")
     with open(os.path.join(args.out, "README.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
 

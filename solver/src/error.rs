@@ -15,7 +15,7 @@ impl std::fmt::Display for Stall {
             Stall::IterationLimit(limit) => write!(
                 f,
                 "{limit} iterations were not enough (a closure of boosted trees is \
-                 piecewise constant, smoothed only over +-10 % in J and Delta_v)"
+                 piecewise constant, smoothed only over +-10 % in J and Delta_v or Theta)"
             ),
             Stall::SingularJacobian => write!(
                 f,

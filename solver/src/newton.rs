@@ -39,8 +39,11 @@ use crate::theta_balance::ThetaBalance;
 const DELTA_V_EPSILON: f64 = 1e-5;
 /// Shear-rate floor as a fraction of the forcing's largest shear rate.
 const SHEAR_FLOOR: f64 = 1e-3;
-/// Newton iterations before giving up.
-const MAX_ITERATIONS: usize = 60;
+/// Newton iterations before giving up, from `u = u_inf`.
+const MAX_ITERATIONS: usize = 30;
+/// Newton iterations before a step of the continuation is halved: a converging step takes
+/// 3-8 from the last solution.
+const STEP_ITERATIONS: usize = 12;
 /// Converged when every scaled residual is below this.
 pub const TOLERANCE: f64 = 1e-9;
 /// Relative finite-difference step of the Jacobian.
@@ -303,7 +306,8 @@ impl ProfileProblem {
     /// Where Newton's method stalls from there, and `law` is given (a closure that converges,
     /// the local rheology), the solve follows the closures `(1 - s) law + s closure` from the
     /// law's solution at `s = 0` to `s = 1`, each from the last, with steps in `s` of 1/4
-    /// that grow by half on success and halve on a stall (down to 1/64). A solve that does
+    /// that grow by half on success and halve when [`STEP_ITERATIONS`] are not enough (down to
+    /// 1/64). A solve that does
     /// not reach [`TOLERANCE`] is an error saying how far it got.
     pub fn solve(
         &self,
@@ -332,15 +336,16 @@ impl ProfileProblem {
         }
         let layout = self.layout(closure);
         let direct = self.start(closure, layout, None, p_start, floor);
-        let stall = match direct.and_then(|x| self.newton(closure, layout, x, floor)) {
-            Ok(done) => return self.solution(closure, layout, &done, floor, false),
-            Err(e @ SolverError::NotConverged { .. }) if law.is_some() => e,
-            Err(e) => return Err(e),
-        };
+        let stall =
+            match direct.and_then(|x| self.newton(closure, layout, x, floor, MAX_ITERATIONS)) {
+                Ok(done) => return self.solution(closure, layout, &done, floor, false),
+                Err(e @ SolverError::NotConverged { .. }) if law.is_some() => e,
+                Err(e) => return Err(e),
+            };
         let law = law.expect("checked above");
         let law_layout = self.layout(law);
         let x = self.start(law, law_layout, None, p_start, floor)?;
-        let mut done = self.newton(law, law_layout, x, floor)?;
+        let mut done = self.newton(law, law_layout, x, floor, MAX_ITERATIONS)?;
         let (mut s, mut ds) = (0.0, 0.25);
         loop {
             let target = f64::min(s + ds, 1.0);
@@ -351,7 +356,7 @@ impl ProfileProblem {
             };
             let attempt = self
                 .start(&blend, layout, Some(&done.x), p_start, floor)
-                .and_then(|x0| self.newton(&blend, layout, x0, floor));
+                .and_then(|x0| self.newton(&blend, layout, x0, floor, STEP_ITERATIONS));
             match attempt {
                 Ok(next) => {
                     done = Converged {
@@ -394,6 +399,7 @@ impl ProfileProblem {
         layout: Layout,
         mut x: DVector<f64>,
         floor: f64,
+        limit: usize,
     ) -> Result<Converged> {
         let norm = |e: &Evaluation| e.r.amax();
         let mut iterations = 0;
@@ -405,8 +411,8 @@ impl ProfileProblem {
                 residual: norm(&current),
                 tolerance: TOLERANCE,
             };
-            if iterations == MAX_ITERATIONS {
-                return Err(stalled(Stall::IterationLimit(MAX_ITERATIONS), iterations));
+            if iterations == limit {
+                return Err(stalled(Stall::IterationLimit(limit), iterations));
             }
             iterations += 1;
             let jac = self.jacobian(closure, layout, &x, &current, floor)?;

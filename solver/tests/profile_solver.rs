@@ -112,3 +112,20 @@ fn nonlocal_closure_converges_on_the_validation_profiles() {
     let closure = NonlocalClosure::new(predictor, balance).unwrap();
     solve_validation_scenes(&closure, [0.05, 0.08, 0.15]);
 }
+
+#[test]
+fn the_continuation_from_the_local_law_solves_what_newton_alone_does_not() {
+    // scenes/quick.toml with the shipped dv mapping: Newton from u = u_inf cycles (the
+    // closure's Delta_v has a kink where u = u_inf); the continuation from the local law's
+    // solution converges, and says so.
+    let scene = sim::Scene::from_path(&repo("scenes/quick.toml"), false).unwrap();
+    let problem = ProfileProblem::from_scene(&scene).unwrap();
+    let closure = LearnedClosure::new(Predictor::load(&repo("models"), "dv").unwrap()).unwrap();
+    let law = fit_local_rheology(&Dataset::read_csv(repo("datasets/wide.ensemble.csv")).unwrap())
+        .unwrap();
+    let err = problem.solve(&closure, None, 0.1).unwrap_err();
+    assert!(err.to_string().contains("did not converge"), "{err}");
+    let s = problem.solve(&closure, Some(&law), 0.1).unwrap();
+    assert!(s.continued);
+    check(&s, &problem);
+}

@@ -343,11 +343,17 @@ fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
     };
     on_threads(1, || {
         let plain = rows(&scene, &RunOptions::default(), None).unwrap();
-        STOP.store(true, Ordering::SeqCst);
+        // A flag set before the run stops its packing, with nothing to resume: stop at the
+        // first snapshot, then resume with the flag still set, which stops inside the second
+        // interval.
+        assert!(matches!(
+            rows(&scene, &opts, Some((1, &STOP))),
+            Err(SimError::Interrupted { .. })
+        ));
         match rows(&scene, &opts, None) {
             Err(SimError::Interrupted { step }) => assert!(
-                step < steps_per_sample,
-                "stopped at step {step}, not inside the first interval of {steps_per_sample}"
+                step > steps_per_sample && step < 2 * steps_per_sample,
+                "stopped at step {step}, not inside the second interval of {steps_per_sample}"
             ),
             other => panic!("expected an interruption, got {:?}", other.map(|_| ())),
         }

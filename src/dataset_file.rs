@@ -5,7 +5,9 @@
 //! run's lines together) and copied byte for byte, so that assembling per-run parts,
 //! or merging shards, gives the same bytes as one whole run. Scene ids sort in grid order
 //! (`<grid>_<zero-padded index>`) and a scene's replicas by seed, which fixes the order of
-//! the runs in every output.
+//! the runs in every output. A run's rows, and a scene's replicas, must agree as
+//! `crate::run_rows` says.
+use crate::run_rows::{RunColumns, RunShape, NOT_REPLICAS};
 use anyhow::{bail, Context};
 use schema::columns as dataset_columns;
 use std::collections::BTreeMap;
@@ -33,7 +35,8 @@ impl DatasetFile {
 
     /// Parses dataset text; see [`DatasetFile::read`]. A leading UTF-8 byte-order mark is
     /// dropped; scene ids must follow the safe-name rule (`sim::input::scene_name`), seeds
-    /// must be non-negative integers, standard errors (`*_se`) must not be negative.
+    /// must be non-negative integers, standard errors (`*_se`) must not be negative; the
+    /// rows of a run and the runs of a scene must agree ([`crate::run_rows`]).
     pub fn parse(text: &str) -> anyhow::Result<DatasetFile> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         if text.is_empty() {
@@ -62,7 +65,9 @@ impl DatasetFile {
             .iter()
             .map(|n| !dataset_columns::TEXT.contains(&n.as_str()))
             .collect();
+        let columns = RunColumns::new(&names);
         let mut runs: BTreeMap<RunKey, Vec<String>> = BTreeMap::new();
+        let mut shapes: BTreeMap<RunKey, (usize, RunShape)> = BTreeMap::new();
         let mut last: Option<RunKey> = None;
         for (k, line) in lines.enumerate() {
             let number = k + 2;
@@ -104,10 +109,63 @@ impl DatasetFile {
                     seed_text(key.1)
                 );
             }
+            let y = columns.y(&cells);
+            match shapes.get_mut(&key) {
+                Some((_, shape)) => {
+                    columns.same_run(&shape.first, &cells).map_err(|m| {
+                        anyhow::anyhow!(
+                            "line {number} (scene `{}`{}): {m}",
+                            key.0,
+                            seed_text(key.1)
+                        )
+                    })?;
+                    shape.y.extend(y);
+                }
+                None => {
+                    let y = Vec::from_iter(y);
+                    shapes.insert(key.clone(), (number, RunShape { first: cells, y }));
+                }
+            }
             runs.entry(key.clone()).or_default().push(line.to_string());
             last = Some(key);
         }
+        for (key, (first_line, shape)) in &shapes {
+            let place = || {
+                let rows = runs[key].len();
+                format!(
+                    "scene `{}`{}, lines {first_line}-{}",
+                    key.0,
+                    seed_text(key.1),
+                    first_line + rows - 1
+                )
+            };
+            columns
+                .check_bins(shape)
+                .map_err(|m| anyhow::anyhow!("{}: {m}", place()))?;
+            if let Some((other, (_, first))) = shapes.range(..key).next_back() {
+                if other.0 == key.0 {
+                    let name = format!("seed {}", other.1.unwrap_or_default());
+                    columns
+                        .same_scene(first, &name, shape)
+                        .map_err(|m| anyhow::anyhow!("{}: {m}; {NOT_REPLICAS}", place()))?;
+                }
+            }
+        }
         Ok(DatasetFile { header, runs })
+    }
+
+    /// The first row and bin centres of run `key`, from its stored lines (checked on reading).
+    fn shape(&self, columns: &RunColumns, key: &RunKey) -> anyhow::Result<RunShape> {
+        let lines = &self.runs[key];
+        let first = fields(&lines[0])?;
+        let y = lines
+            .iter()
+            .map(|l| Ok(columns.y(&fields(l)?)))
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        Ok(RunShape {
+            first,
+            y: y.into_iter().flatten().collect(),
+        })
     }
 
     /// Adds the runs of `other`, which must have the same header and no run in common.
@@ -119,16 +177,34 @@ impl DatasetFile {
                 self.header
             );
         }
-        for (key, lines) in other.runs {
-            if self.runs.contains_key(&key) {
+        let columns = RunColumns::new(&fields(&self.header)?);
+        for key in other.runs.keys() {
+            if self.runs.contains_key(key) {
                 bail!(
                     "{other_name}: scene `{}`{} is also in an earlier file (overlapping shards?)",
                     key.0,
                     seed_text(key.1)
                 );
             }
-            self.runs.insert(key, lines);
+            let replica = self.runs.keys().find(|(id, _)| id == &key.0);
+            if let Some(replica) = replica {
+                let name = format!("seed {} of an earlier file", replica.1.unwrap_or_default());
+                columns
+                    .same_scene(
+                        &self.shape(&columns, replica)?,
+                        &name,
+                        &other.shape(&columns, key)?,
+                    )
+                    .map_err(|m| {
+                        anyhow::anyhow!(
+                            "{other_name}: scene `{}`{} {m}; {NOT_REPLICAS}",
+                            key.0,
+                            seed_text(key.1)
+                        )
+                    })?;
+            }
         }
+        self.runs.extend(other.runs);
         Ok(())
     }
 
@@ -197,6 +273,19 @@ mod tests {
 
     const HEADER: &str = "scene_id,profile,y,mu";
 
+    /// Every text of `cases` is refused with a message holding its expected part.
+    fn assert_refused(cases: &[(String, &str)]) {
+        for (text, expected) in cases {
+            let err = format!(
+                "{:#}",
+                DatasetFile::parse(text)
+                    .err()
+                    .unwrap_or_else(|| panic!("accepted {text:?}"))
+            );
+            assert!(err.contains(expected), "{err} should mention {expected}");
+        }
+    }
+
     #[test]
     fn merge_keeps_bytes_and_orders_scenes() {
         let mut a = DatasetFile::parse(&format!("{HEADER}\ng_002,\"sin(y)\",1e0,5e-1\n")).unwrap();
@@ -242,15 +331,7 @@ mod tests {
                 "... (500001 bytes)` is not a finite number",
             ),
         ];
-        for (text, expected) in cases {
-            let err = format!(
-                "{:#}",
-                DatasetFile::parse(&text)
-                    .err()
-                    .unwrap_or_else(|| panic!("accepted {text:?}"))
-            );
-            assert!(err.contains(expected), "{err} should mention {expected}");
-        }
+        assert_refused(&cases);
     }
 
     #[test]
@@ -284,6 +365,60 @@ mod tests {
             let message = format!("{:#}", DatasetFile::parse(&text).err().unwrap());
             assert!(message.contains(expected), "{message}");
         }
+    }
+
+    /// Issue 31, class 9: a run's rows share its scene, its bins tile the box once each, and
+    /// a scene's replicas share its scene columns and bins (independent of how the ensemble
+    /// is built: these are refused before it).
+    #[test]
+    fn runs_that_disagree_are_refused() {
+        const RUN: &str = "scene_id,L_y,phi,seed,y";
+        let run = |seed: u32, phi: &str, ys: &[&str]| -> String {
+            ys.iter()
+                .map(|y| format!("g_0,4,{phi},{seed},{y}\n"))
+                .collect()
+        };
+        let good = format!(
+            "{RUN}\n{}{}",
+            run(1, "0.5", &["1", "3"]),
+            run(2, "5e-1", &["1e0", "3"])
+        );
+        assert_eq!(DatasetFile::parse(&good).unwrap().runs.len(), 2);
+        let cases = [
+            (
+                format!("{RUN}\n{}", run(1, "0.5", &["1", "1"])),
+                "scene `g_0` (seed 1), lines 2-3: bin 2 (y = 1) does not come after bin 1 (y = 1): a bin is duplicated",
+            ),
+            (
+                format!("{RUN}\n{}", run(1, "0.5", &["1"])),
+                "its 1 bins do not tile L_y = 4: bin 1 is at y = 1, not at 2",
+            ),
+            (
+                format!("{RUN}\n{}", run(1, "0.5", &["0.5", "1.5", "3.5"])),
+                "its 3 bins do not tile L_y = 4: bin 1 is at y = 0.5, not at 0.666",
+            ),
+            (
+                format!("{RUN}\ng_0,4,0.5,1,1\ng_0,4,0.44,1,3\n"),
+                "line 3 (scene `g_0` (seed 1)): column `phi` is `0.44` where the run's first row has `0.5`",
+            ),
+            (
+                format!("{RUN}\n{}{}", run(1, "0.5", &["1", "3"]), run(2, "0.44", &["1", "3"])),
+                "scene `g_0` (seed 2), lines 4-5: has phi = `0.44` where seed 1 has `0.5`; replicas of a scene differ only in their seed",
+            ),
+            (
+                format!("{RUN}\n{}{}", run(1, "0.5", &["1", "3"]), run(2, "0.5", &["2"])),
+                "has other bins (1 from y = 2) than seed 1 (2 from y = 1)",
+            ),
+        ];
+        assert_refused(&cases);
+        // Across files: a second grid's run under the same scene name and another seed.
+        let mut a = DatasetFile::parse(&format!("{RUN}\n{}", run(1, "0.45", &["1", "3"]))).unwrap();
+        let b = DatasetFile::parse(&format!("{RUN}\n{}", run(2, "0.44", &["1", "3"]))).unwrap();
+        let err = format!("{:#}", a.absorb(b, "b.csv").unwrap_err());
+        assert!(
+            err.contains("b.csv: scene `g_0` (seed 2) has phi = `0.44` where seed 1 of an earlier file has `0.45`"),
+            "{err}"
+        );
     }
 
     #[test]

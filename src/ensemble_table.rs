@@ -2,7 +2,7 @@
 //! beside the dataset as `<stem>.ensemble.csv` with its summary `<stem>.ensemble.json`.
 use std::path::{Path, PathBuf};
 pub use surrogate::EnsembleSummary;
-use surrogate::{build_ensemble, Dataset};
+use surrogate::{build_ensemble, Dataset, Ensemble};
 
 /// The ensemble files beside dataset `path`: `<stem>.ensemble.csv` and `<stem>.ensemble.json`.
 pub fn paths(path: &Path) -> [PathBuf; 2] {
@@ -13,11 +13,14 @@ pub fn paths(path: &Path) -> [PathBuf; 2] {
     })
 }
 
-/// Writes the ensemble table and summary of the per-run table `text` beside `dataset`
-/// (atomically) and returns the summary.
-pub fn write_beside(dataset: &Path, text: &str) -> anyhow::Result<EnsembleSummary> {
+/// The ensemble table and summary of the per-run table `text` of `dataset`.
+pub fn build(dataset: &Path, text: &str) -> anyhow::Result<Ensemble> {
     let data = Dataset::from_csv_bytes(text.as_bytes(), &dataset.display().to_string())?;
-    let ensemble = build_ensemble(&data)?;
+    Ok(build_ensemble(&data)?)
+}
+
+/// Writes `ensemble` beside `dataset` (atomically) and returns its summary.
+pub fn write_beside(dataset: &Path, ensemble: Ensemble) -> anyhow::Result<EnsembleSummary> {
     let [table, summary] = paths(dataset);
     sim::output::atomic_write::write_atomic(&table, &ensemble.csv)?;
     let json = serde_json::to_string_pretty(&ensemble.summary)? + "\n";

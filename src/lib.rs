@@ -12,6 +12,7 @@ mod output_guard;
 mod plots;
 mod prediction_timing;
 mod report;
+mod run_rows;
 mod scene_work;
 mod surrogate_text;
 mod threads;

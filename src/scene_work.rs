@@ -68,6 +68,22 @@ pub enum SceneStatus {
     Pending,
 }
 
+/// What a run folder records of its scene ([`SceneWork::recorded_scene`]).
+#[derive(Debug, PartialEq, Eq)]
+pub enum Recorded {
+    /// The scene asked about.
+    Same,
+    /// Another scene: the folder is of another grid, or the grid changed.
+    Other,
+    /// No `scene.toml`.
+    None,
+}
+
+/// A scene as its run folder records it.
+fn scene_text(file: &SceneFile) -> anyhow::Result<String> {
+    toml::to_string(file).context("writing the scene as TOML")
+}
+
 /// The folder of one run.
 pub struct SceneWork {
     pub dir: PathBuf,
@@ -86,20 +102,33 @@ impl SceneWork {
     pub fn prepare(&self, file: &SceneFile) -> anyhow::Result<()> {
         std::fs::create_dir_all(&self.dir)
             .with_context(|| format!("creating {}", self.dir.display()))?;
-        let text = toml::to_string(file).context("writing the scene as TOML")?;
-        let path = self.dir.join("scene.toml");
-        match std::fs::read_to_string(&path) {
-            Ok(old) if old != text => bail!(
+        let path = self.scene_toml();
+        match self.recorded_scene(file)? {
+            Recorded::Other => bail!(
                 "{} holds a different scene than the grid now gives (the grid changed?); \
                  remove the work directory or write to another --out",
                 path.display()
             ),
-            Ok(_) => Ok(()),
-            Err(_) => Ok(sim::output::atomic_write::write_atomic(
+            Recorded::Same => Ok(()),
+            Recorded::None => Ok(sim::output::atomic_write::write_atomic(
                 &path,
-                text.as_bytes(),
+                scene_text(file)?.as_bytes(),
             )?),
         }
+    }
+
+    /// Whether the folder's `scene.toml` is that of `file`, of another scene, or absent.
+    pub fn recorded_scene(&self, file: &SceneFile) -> anyhow::Result<Recorded> {
+        Ok(match std::fs::read_to_string(self.scene_toml()) {
+            Ok(old) if old == scene_text(file)? => Recorded::Same,
+            Ok(_) => Recorded::Other,
+            Err(_) => Recorded::None,
+        })
+    }
+
+    /// The scene the folder was made for.
+    pub fn scene_toml(&self) -> PathBuf {
+        self.dir.join("scene.toml")
     }
 
     /// The status the files record.

@@ -542,6 +542,22 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
             && stderr.contains("README.md already exists (an earlier flow-curve result)"),
         "{stderr}"
     );
+    // Issue 31, class 13: the same grid at another shear rate is not fitted over these runs
+    // (eta_r would be halved).
+    let other_rate = dir.join("tiny_shear.toml");
+    let grid = std::fs::read_to_string(root().join("tests/grids/tiny_shear.toml")).unwrap();
+    std::fs::write(
+        &other_rate,
+        grid.replace("shear_rate = 0.02", "shear_rate = 0.01"),
+    )
+    .unwrap();
+    let refused = flow_curves(other_rate.to_str().unwrap());
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success()
+            && stderr.contains("the run there was not made for scene tiny_shear_000"),
+        "{stderr}"
+    );
     let refused = flow_curves("tests/grids/tiny.toml");
     let stderr = String::from_utf8_lossy(&refused.stderr);
     assert!(

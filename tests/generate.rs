@@ -287,6 +287,32 @@ fn merge_names_the_line_of_a_truncated_or_corrupt_part() {
     assert!(!dir.join("b.csv").exists(), "nothing written on error");
 }
 
+/// Issue 31, class 9: the runs of two grids that share a scene name are not averaged as
+/// replicas, and the refused merge writes nothing.
+#[test]
+fn merge_refuses_runs_of_another_scene_under_one_name_and_writes_nothing() {
+    let dir = temp_dir("two_grids");
+    let part = |name: &str, phi: &str, seed: u32| {
+        let path = dir.join(name);
+        let rows: String = ["1", "3"]
+            .iter()
+            .map(|y| format!("g_000,4,{phi},{seed},{y}\n"))
+            .collect();
+        std::fs::write(&path, format!("scene_id,L_y,phi,seed,y\n{rows}")).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let (a, b) = (part("a.csv", "0.45", 1), part("b.csv", "0.44", 2));
+    let out = dir.join("all.csv");
+    let o = suspflow(&["merge", &a, &b, "--out", out.to_str().unwrap()]);
+    assert!(
+        !o.status.success()
+            && stderr(&o).contains("has phi = `0.44` where seed 1 of an earlier file has `0.45`"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists() && !dir.join("all.ensemble.csv").exists());
+}
+
 #[test]
 fn bad_grids_are_refused_naming_the_problem() {
     let dir = temp_dir("badgrid");

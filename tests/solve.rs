@@ -145,3 +145,59 @@ fn homogeneous_shear_is_refused_naming_the_field() {
     assert!(stderr.contains("fluid.shear_rate"), "{stderr}");
     assert!(!out.join("profile.csv").exists());
 }
+
+/// Issue 31, class 10: a solve beyond the closure's training data says so per bin
+/// (`in_domain`, `domain_distance` in profile.csv), in the summary and in a warning. The
+/// training rows have phi 0.48-0.58 (datasets/wide.ensemble.csv): at phi 0.40 and 0.62 every
+/// bin is out of range whatever its local state, while the training-like scene stays in.
+#[test]
+fn a_solve_beyond_the_training_data_flags_its_bins() {
+    let out = scratch("extrapolated");
+    std::fs::create_dir_all(&out).unwrap();
+    for (phi, closure, all_out) in [
+        ("0.54", "learned", false),
+        ("0.40", "learned", true),
+        ("0.62", "local", true),
+    ] {
+        let scene = out.join(format!("phi{phi}.toml"));
+        std::fs::write(
+            &scene,
+            TRAINING_LIKE.replace("phi = 0.54", &format!("phi = {phi}")),
+        )
+        .unwrap();
+        let solution = out.join(format!("solution{phi}"));
+        let result = suspflow(&[
+            "solve",
+            s(&scene),
+            "--closure",
+            closure,
+            "--out",
+            s(&solution),
+        ]);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert!(result.status.success(), "phi {phi}: {stderr}");
+        let text = std::fs::read_to_string(solution.join("profile.csv")).unwrap();
+        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        let at = header.iter().position(|&c| c == "in_domain").unwrap();
+        let inside: Vec<bool> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(at).unwrap() == "true")
+            .collect();
+        let outside = inside.iter().filter(|&&i| !i).count();
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(solution.join("summary.json")).unwrap())
+                .unwrap();
+        assert_eq!(summary["bins_outside_domain"], outside, "phi {phi}");
+        if all_out {
+            assert_eq!(outside, 25, "phi {phi}");
+            assert!(
+                stderr.contains("25 of 25 bins lie outside the training domain"),
+                "{stderr}"
+            );
+        } else {
+            assert!(outside < 25 / 2, "phi {phi}: {outside} of 25 bins outside");
+        }
+    }
+    std::fs::remove_dir_all(&out).ok();
+}

@@ -1305,3 +1305,182 @@ fn predict_counts_the_values_clipped_into_the_physical_range() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Issue 31, class 12: a table no flow can give (negative J, phi = 2, negative phi_loc) is
+/// refused by every command that trains or scores on it, naming row and column; `coverage`
+/// and `plot` refuse a literal NaN as the others do (only an empty cell is undefined).
+#[test]
+fn unphysical_tables_are_refused_by_every_reader() {
+    let dir = scratch("unphysical");
+    let good = table(&training_scenes(4, 10), &[], &[]);
+    let models = dir.join("models");
+    train_untuned(&write(&dir, "train.csv", &good), &models, &["dv"]);
+    let cases = [
+        ("J", 3, "-0.01", "J = eta |gdot| / P >= 0"),
+        ("phi", 5, "2", "a volume fraction lies in [0, 0.74]"),
+        ("phi_loc", 8, "-0.1", "a volume fraction lies in [0, 0.74]"),
+    ];
+    for (column, row, value, reason) in cases {
+        let bad = write(&dir, "bad.csv", &with_cell(&good, column, row, value));
+        let expected =
+            format!("data row {row}, column `{column}`: {value} is not physical ({reason}");
+        for args in [
+            vec![
+                "train",
+                "--data",
+                s(&bad),
+                "--out",
+                s(&dir.join("m2")),
+                "--mapping",
+                "dv",
+                "--no-tune",
+            ],
+            vec![
+                "validate",
+                "--models",
+                s(&models),
+                "--data",
+                s(&bad),
+                "--mapping",
+                "dv",
+                "--plots",
+                s(&dir.join("p")),
+            ],
+            vec![
+                "cross-validate",
+                "--data",
+                s(&bad),
+                "--models",
+                s(&models),
+                "--mapping",
+                "dv",
+                "--out",
+                s(&dir.join("cv")),
+            ],
+        ] {
+            let err = suspflow_err(&args);
+            assert!(
+                err.contains(&expected),
+                "{} on {column} = {value}: {err}",
+                args[0]
+            );
+        }
+    }
+    let nan = write(&dir, "nan.csv", &with_cell(&good, "mu", 4, "NaN"));
+    for command in ["coverage", "plot"] {
+        let err = suspflow_err(&[command, s(&nan), "--out", s(&dir.join(command))]);
+        assert!(
+            err.contains("data row 4, column `mu`: NaN is not a finite number"),
+            "{command}: {err}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Issue 31, class 11: a bundle whose parts disagree, or that holds impossible values, is
+/// refused on load by `predict` (and by every loader: one check), saying what disagrees.
+#[test]
+fn a_model_bundle_whose_parts_disagree_is_refused_on_load() {
+    let dir = scratch("bundle");
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+    let input = write(
+        &dir,
+        "in.csv",
+        "scene_id,J,phi_loc,phi,Delta_v\ns0,0.01,0.55,0.54,0.05\n",
+    );
+    type Damage = fn(&Path);
+    fn edit_json(path: &Path, f: impl Fn(&mut Value)) {
+        let mut v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        f(&mut v);
+        std::fs::write(path, serde_json::to_string(&v).unwrap()).unwrap();
+    }
+    let cases: [(&str, Damage, &str); 7] = [
+        (
+            "dv",
+            |m| std::fs::copy(m.join("mu.domain.json"), m.join("dv.domain.json")).map(drop).unwrap(),
+            "its training domain is of features [J, phi_loc, phi], the model's are [J, Delta_v, phi]",
+        ),
+        (
+            "mu",
+            |m| edit_json(&m.join("mu.meta.json"), |v| drop(v.as_object_mut().unwrap().remove("backbone"))),
+            "the trees learn the residual of a backbone, but it holds none",
+        ),
+        (
+            "mu",
+            |m| edit_json(&m.join("mu.meta.json"), |v| {
+                v["scaling"]["ranges"][0]["max"] = v["scaling"]["ranges"][0]["min"].clone()
+            }),
+            "of zero width",
+        ),
+        (
+            "mu",
+            |m| edit_json(&m.join("mu.meta.json"), |v| {
+                v["scaling"]["ranges"][0] = serde_json::json!({"min": 2.0, "max": 0.1})
+            }),
+            "the range of `mu` is [2, 0.1], not a range",
+        ),
+        (
+            "mu",
+            |m| edit_json(&m.join("mu.meta.json"), |v| v["backbone"]["law"]["phi_j"] = (-5.0).into()),
+            "phi_J = -5 (eq 6.7), outside (0, 0.74]",
+        ),
+        (
+            "mu",
+            |m| edit_json(&m.join("mu.meta.json"), |v| v["hyper_parameters"]["n_estimators"] = 300.into()),
+            "its trees number 100, the sidecar's 300 rounds of 1 output(s) make 300",
+        ),
+        (
+            "mu",
+            |m| edit_json(&m.join("mu.domain.json"), |v| v["training_fnv1a_64"] = "0123456789abcdef".into()),
+            "its training domain holds 1530 rows of data 0123456789abcdef",
+        ),
+    ];
+    for (mapping, damage, expected) in cases {
+        let models = dir.join("models");
+        let _ = std::fs::remove_dir_all(&models);
+        std::fs::create_dir_all(&models).unwrap();
+        for entry in std::fs::read_dir(&shipped).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_file() {
+                std::fs::copy(&path, models.join(path.file_name().unwrap())).unwrap();
+            }
+        }
+        let predicted = dir.join("predicted.csv");
+        suspflow_ok(&[
+            "predict",
+            "--model",
+            s(&models.join(mapping)),
+            "--input",
+            s(&input),
+            "--out",
+            s(&predicted),
+            "--force",
+        ]);
+        // Issue 31, class 15: predict on its own output would repeat its column names.
+        let err = suspflow_err(&[
+            "predict",
+            "--model",
+            s(&models.join(mapping)),
+            "--input",
+            s(&predicted),
+        ]);
+        let first_output = if mapping == "mu" { "mu" } else { "phi_loc" };
+        assert!(
+            err.contains(&format!("already has a column `{first_output}_pred`")),
+            "{err}"
+        );
+        damage(&models);
+        let err = suspflow_err(&[
+            "predict",
+            "--model",
+            s(&models.join(mapping)),
+            "--input",
+            s(&input),
+        ]);
+        assert!(
+            err.contains(expected),
+            "{mapping}: {err} should say {expected}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

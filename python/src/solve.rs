@@ -56,7 +56,7 @@ pub fn solve(
     let solution = match closure {
         "learned" => {
             let learned = LearnedClosure::new(predictor)?;
-            py.allow_threads(|| problem.solve(&learned, p_start))
+            py.allow_threads(|| problem.solve(&learned, None, p_start))
         }
         "local" => {
             let train = train.unwrap_or_else(|| training_data(&models, &predictor));
@@ -64,7 +64,7 @@ pub fn solve(
                 Error::context("reading the training data for the local rheology", e)
             })?;
             let law = fit_local_rheology(&data)?;
-            py.allow_threads(|| problem.solve(&law, p_start))
+            py.allow_threads(|| problem.solve(&law, None, p_start))
         }
         other => {
             return Err(Error(format!(

@@ -39,6 +39,15 @@ pub const DELTA_V: &str = "Delta_v";
 pub const F_X: &str = "f_x";
 pub const COUNT: &str = "count";
 
+/// Prediction tables (`predict`, `solve`): whether the row lies inside the model's training
+/// domain (`true`/`false`).
+pub const IN_DOMAIN: &str = "in_domain";
+/// Prediction tables: the row's distance to the training rows in units of the domain's
+/// threshold (<= 1 is near enough).
+pub const DOMAIN_DISTANCE: &str = "domain_distance";
+/// The suffix of a predicted output's column: `mu_pred` is the prediction of `mu`.
+pub const PREDICTED_SUFFIX: &str = "_pred";
+
 /// Ensemble table: number of replicas averaged in the row.
 pub const REPLICAS: &str = "replicas";
 /// Ensemble table: the replicas' seeds, separated by spaces.

@@ -36,18 +36,26 @@ pub enum SimError {
     /// The run did not reach a steady state within its strain budget.
     #[error("no steady state within the budget of strain {budget}: {detail}")]
     NotSteady { budget: f64, detail: String },
-    /// A checkpoint could not be written, read, or does not belong to this scene.
+    /// A checkpoint could not be written.
     #[error("checkpoint {path}: {message}")]
     Checkpoint { path: String, message: String },
+    /// An existing checkpoint cannot be resumed: unreadable, damaged, or of another scene.
+    /// (The command says how to go on: remove it, or start over.)
+    #[error("checkpoint {path}: {message}")]
+    CheckpointUnusable { path: String, message: String },
     /// Writing results failed.
     #[error("writing {path}: {message}")]
     Output { path: String, message: String },
     /// A grid file is invalid or expands to an invalid scene.
     #[error("grid {0}")]
     Grid(String),
-    /// The run was interrupted (Ctrl-C); the last checkpoint holds its state.
-    #[error("interrupted at step {step}; resume with --resume")]
+    /// The run was interrupted (Ctrl-C, SIGTERM); the last checkpoint holds its state.
+    #[error("interrupted at step {step}; the checkpoint holds its state")]
     Interrupted { step: u64 },
+    /// The run was interrupted during the initial packing, before any state worth saving:
+    /// the packing is drawn again from the scene's seed.
+    #[error("interrupted during the initial packing; nothing to save (the packing is drawn again from the scene's seed)")]
+    InterruptedPacking,
 }
 
 impl SimError {

@@ -298,21 +298,20 @@ pub fn run(
         Some(path) => {
             let Checkpoint { run: st, system } = checkpoint::load(path)?;
             if !same_scene(&st.scene, &scene.file) {
-                return Err(SimError::Checkpoint {
+                return Err(SimError::CheckpointUnusable {
                     path: path.display().to_string(),
-                    message: "was written for a different scene; remove it or drop --resume".into(),
+                    message: "was written for a different scene".into(),
                 });
             }
             if !st.averaging.fits(scene.n_bins) {
-                return Err(SimError::Checkpoint {
+                return Err(SimError::CheckpointUnusable {
                     path: path.display().to_string(),
-                    message: "holds snapshot sums of an older layout; remove it or drop --resume"
-                        .into(),
+                    message: "holds snapshot sums of an older layout".into(),
                 });
             }
-            let damaged = |what: String| SimError::Checkpoint {
+            let damaged = |what: String| SimError::CheckpointUnusable {
                 path: path.display().to_string(),
-                message: format!("is damaged: {what}; remove it or drop --resume"),
+                message: format!("is damaged: {what}"),
             };
             if let Some(what) = shape_mismatch(scene, &st, &system) {
                 return Err(damaged(what));

@@ -254,4 +254,29 @@ fn duplicate_scenes_are_refused() {
     );
     let message = refusal("[[cases]]\nname = \"x\"\n");
     assert!(message.contains("cases[0] sets `name`"), "{message}");
+    // Issue 31, class 15: one scene spelled two ways is one scene, refused as twice.
+    for (extra, expected) in [
+        (
+            "[vary]\n\"box.l_y\" = [12, 12.0]\n",
+            "scenes g_000 and g_001 are the same scene (seed 1) with values spelled two ways",
+        ),
+        (
+            "[[cases]]\nfluid = { profile = \"0.1*sin(2*pi*y/L)\" }\n\
+             [[cases]]\nfluid = { profile = \"0.1*sin(2*pi*y/L) \" }\n",
+            "scenes g_000 and g_001 are the same scene",
+        ),
+        (
+            "[[cases]]\nfluid.profile = \"0.1 * sin(2*pi*y/L)\"\n\
+             [[cases]]\nfluid = { profile = \"0.1*sin(2*pi*y/L)\" }\n",
+            "scenes g_000 and g_001 are the same scene",
+        ),
+        (
+            "[[cases]]\nseed = [3]\n[[cases]]\nseed = 3\n",
+            "scenes g_000 and g_001 are the same scene (seed 3)",
+        ),
+        ("[vary]\nname = [\"a\", \"b\"]\n", "[vary] lists `name`"),
+    ] {
+        let message = refusal(extra);
+        assert!(message.contains(expected), "{extra}: {message}");
+    }
 }

@@ -139,7 +139,9 @@ fn a_checkpoint_of_another_scene_is_refused() {
     let other = Scene::from_file(other, false).unwrap();
     STOP.store(false, Ordering::SeqCst);
     match rows(&other, &opts, None) {
-        Err(SimError::Checkpoint { message, .. }) => assert!(message.contains("different scene")),
+        Err(SimError::CheckpointUnusable { message, .. }) => {
+            assert!(message.contains("different scene"))
+        }
         r => panic!("expected a checkpoint error, got {:?}", r.map(|_| ())),
     }
     std::fs::remove_dir_all(&dir).ok();
@@ -206,7 +208,7 @@ fn a_damaged_checkpoint_is_refused_saying_what_is_wrong() {
         damage(&mut damaged);
         std::fs::write(&checkpoint, serde_json::to_vec(&damaged).unwrap()).unwrap();
         match rows(&scene, &opts, None) {
-            Err(SimError::Checkpoint { message, .. }) => assert!(
+            Err(SimError::CheckpointUnusable { message, .. }) => assert!(
                 message.contains("is damaged") && message.contains(expected),
                 "{message} should say {expected}"
             ),
@@ -341,11 +343,17 @@ fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
     };
     on_threads(1, || {
         let plain = rows(&scene, &RunOptions::default(), None).unwrap();
-        STOP.store(true, Ordering::SeqCst);
+        // A flag set before the run stops its packing, with nothing to resume: stop at the
+        // first snapshot, then resume with the flag still set, which stops inside the second
+        // interval.
+        assert!(matches!(
+            rows(&scene, &opts, Some((1, &STOP))),
+            Err(SimError::Interrupted { .. })
+        ));
         match rows(&scene, &opts, None) {
             Err(SimError::Interrupted { step }) => assert!(
-                step < steps_per_sample,
-                "stopped at step {step}, not inside the first interval of {steps_per_sample}"
+                step > steps_per_sample && step < 2 * steps_per_sample,
+                "stopped at step {step}, not inside the second interval of {steps_per_sample}"
             ),
             other => panic!("expected an interruption, got {:?}", other.map(|_| ())),
         }
@@ -464,4 +472,27 @@ fn stress_parts_add_up_and_the_brownian_part_needs_kt() {
         (brownian.mean - contact.mean).abs() < 0.1 * contact.mean + 3.0 * se,
         "structural Brownian pressure {brownian:?} vs contact pressure {contact:?}"
     );
+}
+
+/// Issue 31: a run interrupted before its packing is done says so (nothing to save), not
+/// "interrupted at step 0" with a checkpoint that does not exist.
+#[test]
+fn an_interrupt_during_the_packing_saves_nothing_and_says_so() {
+    static STOP: AtomicBool = AtomicBool::new(true);
+    let dir = std::env::temp_dir().join(format!("suspflow-packing-stop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let opts = RunOptions {
+        checkpoint: Some(dir.join("checkpoint.json")),
+        resume: true,
+        interrupt: Some(&STOP),
+        ..RunOptions::default()
+    };
+    match rows(&tiny(), &opts, None) {
+        Err(e @ SimError::InterruptedPacking) => {
+            assert!(e.to_string().contains("nothing to save"), "{e}")
+        }
+        r => panic!("expected an interrupted packing, got {:?}", r.map(|_| ())),
+    }
+    assert!(!dir.join("checkpoint.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -15,7 +15,7 @@ impl std::fmt::Display for Stall {
             Stall::IterationLimit(limit) => write!(
                 f,
                 "{limit} iterations were not enough (a closure of boosted trees is \
-                 piecewise constant, smoothed only over +-10 % in J and Delta_v)"
+                 piecewise constant, smoothed only over +-10 % in J and Delta_v or Theta)"
             ),
             Stall::SingularJacobian => write!(
                 f,
@@ -39,6 +39,18 @@ pub enum SolverError {
         iterations: usize,
         residual: f64,
         tolerance: f64,
+    },
+
+    /// Newton's method stalled from `u = u_inf`, and the continuation from the local law
+    /// stalled too, at weight `reached` of the closure.
+    #[error(
+        "{direct}; the continuation from the local law then stalled at weight {reached:.3} of \
+         the closure (steps down to 1/64; largest scaled residual {residual:.3e})"
+    )]
+    ContinuationStalled {
+        direct: Box<SolverError>,
+        reached: f64,
+        residual: f64,
     },
 
     /// A problem, scene or closure the solver cannot take.

@@ -1,11 +1,14 @@
 //! Steady profiles from the forcing alone (docs/physics.md): the momentum balance of the
-//! binned suspension, closed by a local-rheology law or by a learned mapping
-//! (J, Delta_v, phi) -> (phi_loc, mu), solved by damped Newton iterations.
+//! binned suspension, closed by a local-rheology law, by a learned mapping
+//! (J, Delta_v, phi) -> (phi_loc, mu), or nonlocally by the learned mapping
+//! (J, Theta, phi) -> (phi_loc, mu) with Theta from its own balance, solved by damped Newton
+//! iterations.
 //!
 //! A [`ProfileProblem`] is built from a scene ([`ProfileProblem::from_scene`]: the forcing at
 //! the bin centres and the drag coefficient of the particle mix); [`ProfileProblem::solve`]
-//! takes a [`Closure`] (a [`LearnedClosure`] or a `LocalRheology`, fitted on a dataset by
-//! [`fit_local_rheology`]) and returns a [`ProfileSolution`].
+//! takes a [`Closure`] (a [`LearnedClosure`], a [`NonlocalClosure`] with its
+//! [`ThetaBalance`] fitted by [`ThetaBalance::fit`], or a `LocalRheology`, fitted on a dataset
+//! by [`fit_local_rheology`]) and returns a [`ProfileSolution`].
 
 pub mod closure;
 pub mod error;
@@ -13,10 +16,12 @@ pub mod local_fit;
 pub mod newton;
 pub mod problem;
 pub mod solution;
+pub mod theta_balance;
 
-pub use closure::{Closure, LearnedClosure, SMOOTHING};
+pub use closure::{Closure, Descriptor, LearnedClosure, NonlocalClosure, SMOOTHING};
 pub use error::{Result, SolverError, Stall};
 pub use local_fit::fit_local_rheology;
 pub use newton::TOLERANCE;
 pub use problem::ProfileProblem;
 pub use solution::ProfileSolution;
+pub use theta_balance::{ThetaBalance, ThetaBalanceFit};

@@ -1,46 +1,55 @@
-//! Damped Newton iterations on the binned momentum balance.
+//! Damped Newton iterations on the binned momentum balance, and on the Theta balance when
+//! the closure reads Theta.
 //!
-//! Unknowns: the bin velocities `u_k` (units a/time) and the uniform pressure `P` (units
-//! eta/time; solved as `ln P` so it stays positive). Equations, on `n` periodic bins of width
+//! Unknowns: the bin velocities `u_k` (units a/time), the uniform pressure `P` (units
+//! eta/time; solved as `ln P` so it stays positive) and, for the nonlocal closure, the bin
+//! temperatures `Theta_k` (solved as `ln Theta_k`). Equations, on `n` periodic bins of width
 //! `w` (the same balance `simulate` checks, stresses positive in compression):
 //! - per bin `(sigma_{k+1/2} - sigma_{k-1/2}) / w = f_k`: the particle shear stress at the bin
 //!   faces balances the drag density `f_k = c phi_loc_k (u_inf,k - u_k)`, with
 //!   `c = 6 pi eta <a> / <V_p>` (Stokes drag per particle over mean particle volume, thesis
 //!   eq 3.5) and `sigma_{k+1/2} = -sign(gdot) mu P`, `gdot = (u_{k+1} - u_k) / w`;
 //! - the normal stress is uniform along y (one `P`), and `phi_loc` averages to `phi`;
-//! - closure at every face and bin centre: `J = eta |gdot| / P`, `Delta_v = |u_inf - u| /
-//!   (|u_inf| + 1e-5)` (eq 6.2), and `(phi_loc, mu)` from the closure.
+//! - for the nonlocal closure, per bin the Theta balance
+//!   `(l/w)^2 (Theta_{k+1} - 2 Theta_k + Theta_{k-1}) = Theta_k - c J_k^beta`
+//!   ([`crate::theta_balance`]), divided by `Theta_k`;
+//! - closure at every face and bin centre: `J = eta |gdot| / P` and the closure's second
+//!   feature, `Delta_v = |u_inf - u| / (|u_inf| + 1e-5)` (eq 6.2) or `Theta` (the bin's, and
+//!   the geometric mean of the two bins' at a face), give `(phi_loc, mu)`.
 //!
 //! `|gdot|` is regularised as `sqrt(gdot^2 + delta^2)` with `delta` a thousandth of the
 //! forcing's largest shear rate: at a velocity extremum `gdot` changes sign, and both laws
 //! have an infinite slope at `J = 0` that would otherwise stall Newton's method.
 //! A learned closure made of trees is piecewise constant; it is evaluated as the expected
 //! prediction over a small box around each input (`Forest::expected`), which is continuous.
-//! The Jacobian is assembled from finite differences of each face's and bin's local
-//! function (a face depends on two velocities, a bin on three, all on `ln P`).
+//! The Jacobian is assembled from finite differences: every row depends only on the
+//! unknowns of its own bin and its two neighbours (and on `ln P`), so the columns of bins
+//! three or more apart are perturbed together, in three to five residual evaluations per
+//! block of unknowns, and each change is credited to the rows beside the bin it perturbed.
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::closure::Closure;
+use crate::closure::{Closure, Descriptor};
 use crate::error::{Result, SolverError, Stall};
 use crate::problem::ProfileProblem;
 use crate::solution::ProfileSolution;
+use crate::theta_balance::ThetaBalance;
 
 /// Regulariser of Delta_v's denominator (eq 6.2).
 const DELTA_V_EPSILON: f64 = 1e-5;
 /// Shear-rate floor as a fraction of the forcing's largest shear rate.
 const SHEAR_FLOOR: f64 = 1e-3;
-/// Newton iterations before giving up.
-const MAX_ITERATIONS: usize = 60;
+/// Newton iterations before giving up, from `u = u_inf`.
+const MAX_ITERATIONS: usize = 30;
+/// Newton iterations before a step of the continuation is halved: a converging step takes
+/// 3-8 from the last solution.
+const STEP_ITERATIONS: usize = 12;
 /// Converged when every scaled residual is below this.
 pub const TOLERANCE: f64 = 1e-9;
 /// Relative finite-difference step of the Jacobian.
 const FD_STEP: f64 = 1e-7;
-
-/// One face's shear stress and the closure's local state there.
-struct FaceState {
-    sigma: f64,
-}
+/// Smallest step in the continuation weight before the solve gives up.
+const MIN_CONTINUATION_STEP: f64 = 1.0 / 64.0;
 
 /// One bin centre's drag density and local state.
 struct BinState {
@@ -50,6 +59,62 @@ struct BinState {
     j: f64,
     delta_v: f64,
     gdot: f64,
+}
+
+/// The residuals at one point, with each bin's `phi_loc` (for the volume row's Jacobian).
+struct Evaluation {
+    r: DVector<f64>,
+    phi_loc: Vec<f64>,
+}
+
+/// `(1 - weight) law + weight closure`, reading the closure's second feature (a law of J
+/// alone ignores it): the path of the continuation in [`ProfileProblem::solve`].
+struct Blend<'a> {
+    law: &'a dyn Closure,
+    closure: &'a dyn Closure,
+    weight: f64,
+}
+
+impl Closure for Blend<'_> {
+    fn evaluate(&self, j: f64, descriptor: f64, phi: f64) -> Result<(f64, f64)> {
+        let (p0, m0) = self.law.evaluate(j, descriptor, phi)?;
+        let (p1, m1) = self.closure.evaluate(j, descriptor, phi)?;
+        let w = self.weight;
+        Ok(((1.0 - w) * p0 + w * p1, (1.0 - w) * m0 + w * m1))
+    }
+
+    fn descriptor(&self) -> Descriptor<'_> {
+        self.closure.descriptor()
+    }
+}
+
+/// A point where Newton's method converged, and how it got there.
+struct Converged {
+    x: DVector<f64>,
+    iterations: usize,
+    residual: f64,
+}
+
+/// Where the unknowns sit in the state vector.
+#[derive(Clone, Copy)]
+struct Layout<'a> {
+    n: usize,
+    balance: Option<&'a ThetaBalance>,
+}
+
+impl Layout<'_> {
+    fn ln_p(&self) -> usize {
+        self.n
+    }
+
+    /// Index of bin `k`'s `ln Theta`.
+    fn theta(&self, k: usize) -> usize {
+        self.n + 1 + k
+    }
+
+    fn len(&self) -> usize {
+        self.n + 1 + if self.balance.is_some() { self.n } else { 0 }
+    }
 }
 
 impl ProfileProblem {
@@ -66,38 +131,52 @@ impl ProfileProblem {
         (u_inf - u).abs() / (u_inf.abs() + DELTA_V_EPSILON)
     }
 
-    /// Face between bins with velocities `u0`, `u1` (streaming `ui0`, `ui1`).
+    /// Shear stress at the face between bins `k` and `k + 1`.
     fn face(
         &self,
         closure: &dyn Closure,
-        (u0, u1, ui0, ui1): (f64, f64, f64, f64),
-        ln_p: f64,
+        layout: Layout,
+        x: &DVector<f64>,
+        k: usize,
         floor: f64,
-    ) -> Result<FaceState> {
-        let p = ln_p.exp();
-        let g = (u1 - u0) / self.bin_width;
+    ) -> Result<f64> {
+        let k1 = (k + 1) % layout.n;
+        let p = x[layout.ln_p()].exp();
+        let g = (x[k1] - x[k]) / self.bin_width;
         let magnitude = (g * g + floor * floor).sqrt();
         let j = self.eta * magnitude / p;
-        let dv = Self::delta_v(0.5 * (ui0 + ui1), 0.5 * (u0 + u1));
-        let (_, mu) = closure.evaluate(j, dv, self.phi)?;
-        Ok(FaceState {
-            sigma: -(g / magnitude) * mu * p,
-        })
+        let second = match closure.descriptor() {
+            Descriptor::None => 0.0,
+            Descriptor::DeltaV => {
+                Self::delta_v(0.5 * (self.u_inf[k] + self.u_inf[k1]), 0.5 * (x[k] + x[k1]))
+            }
+            Descriptor::Theta(_) => (0.5 * (x[layout.theta(k)] + x[layout.theta(k1)])).exp(),
+        };
+        let (_, mu) = closure.evaluate(j, second, self.phi)?;
+        Ok(-(g / magnitude) * mu * p)
     }
 
-    /// Bin `k` with neighbours' velocities `um`, `up`.
+    /// Bin `k`'s drag density and local state.
     fn bin(
         &self,
         closure: &dyn Closure,
-        (um, u, up, ui): (f64, f64, f64, f64),
-        ln_p: f64,
+        layout: Layout,
+        x: &DVector<f64>,
+        k: usize,
         floor: f64,
     ) -> Result<BinState> {
-        let p = ln_p.exp();
+        let n = layout.n;
+        let (um, u, up, ui) = (x[(k + n - 1) % n], x[k], x[(k + 1) % n], self.u_inf[k]);
+        let p = x[layout.ln_p()].exp();
         let gdot = (up - um) / (2.0 * self.bin_width);
         let j = self.eta * (gdot * gdot + floor * floor).sqrt() / p;
         let delta_v = Self::delta_v(ui, u);
-        let (phi_loc, mu) = closure.evaluate(j, delta_v, self.phi)?;
+        let second = match closure.descriptor() {
+            Descriptor::None => 0.0,
+            Descriptor::DeltaV => delta_v,
+            Descriptor::Theta(_) => x[layout.theta(k)].exp(),
+        };
+        let (phi_loc, mu) = closure.evaluate(j, second, self.phi)?;
         Ok(BinState {
             f: self.drag_coefficient * phi_loc * (ui - u),
             phi_loc,
@@ -108,82 +187,83 @@ impl ProfileProblem {
         })
     }
 
-    /// Residuals (balance per bin scaled by the drag scale, then the volume constraint)
-    /// and their Jacobian with respect to `(u_0 .. u_{n-1}, ln P)`.
-    fn linearise(
+    /// Residuals: the balance per bin scaled by the drag scale, the volume constraint, and
+    /// (nonlocal closure) the Theta balance per bin divided by the bin's Theta.
+    fn evaluate(
         &self,
         closure: &dyn Closure,
+        layout: Layout,
         x: &DVector<f64>,
         floor: f64,
-        with_jacobian: bool,
-    ) -> Result<(DVector<f64>, Option<DMatrix<f64>>)> {
-        let n = self.n_bins();
-        let (w, ln_p) = (self.bin_width, x[n]);
-        let scale = self.drag_scale();
-        let face_args = |x: &DVector<f64>, k: usize| {
-            let k1 = (k + 1) % n;
-            (x[k], x[k1], self.u_inf[k], self.u_inf[k1])
-        };
-        let bin_args =
-            |x: &DVector<f64>, k: usize| (x[(k + n - 1) % n], x[k], x[(k + 1) % n], self.u_inf[k]);
-        let mut sigma = Vec::with_capacity(n);
-        let mut bins = Vec::with_capacity(n);
+    ) -> Result<Evaluation> {
+        let n = layout.n;
+        let (w, scale) = (self.bin_width, self.drag_scale());
+        let mut r = DVector::zeros(layout.len());
+        let mut phi_loc = Vec::with_capacity(n);
+        let mut sigma_before = self.face(closure, layout, x, n - 1, floor)?;
         for k in 0..n {
-            sigma.push(self.face(closure, face_args(x, k), ln_p, floor)?.sigma);
-            bins.push(self.bin(closure, bin_args(x, k), ln_p, floor)?);
+            let sigma = self.face(closure, layout, x, k, floor)?;
+            let b = self.bin(closure, layout, x, k, floor)?;
+            r[k] = ((sigma - sigma_before) / w - b.f) / scale;
+            sigma_before = sigma;
+            if let Some(balance) = layout.balance {
+                let theta = |i: usize| x[layout.theta(i)].exp();
+                let (tm, t, tp) = (theta((k + n - 1) % n), theta(k), theta((k + 1) % n));
+                r[layout.theta(k)] = (balance.diffusion_weight(w) * (tp - 2.0 * t + tm)
+                    + balance.production(b.j))
+                    / t
+                    - 1.0;
+            }
+            phi_loc.push(b.phi_loc);
         }
-        let mut r = DVector::zeros(n + 1);
-        for k in 0..n {
-            r[k] = ((sigma[k] - sigma[(k + n - 1) % n]) / w - bins[k].f) / scale;
-        }
-        r[n] = bins.iter().map(|b| b.phi_loc).sum::<f64>() / n as f64 - self.phi;
-        if !with_jacobian {
-            return Ok((r, None));
-        }
-        let mut jac = DMatrix::zeros(n + 1, n + 1);
+        r[n] = phi_loc.iter().sum::<f64>() / n as f64 - self.phi;
+        Ok(Evaluation { r, phi_loc })
+    }
+
+    /// The Jacobian at `x`, whose residuals are `base`, by coloured finite differences
+    /// (module documentation).
+    fn jacobian(
+        &self,
+        closure: &dyn Closure,
+        layout: Layout,
+        x: &DVector<f64>,
+        base: &Evaluation,
+        floor: f64,
+    ) -> Result<DMatrix<f64>> {
+        let n = layout.n;
+        let mut jac = DMatrix::zeros(layout.len(), layout.len());
         let h_u = FD_STEP * self.u_inf.iter().fold(0.0, |a: f64, &b| a.max(b.abs()));
-        for k in 0..n {
-            let (km, kp) = ((k + n - 1) % n, (k + 1) % n);
-            // Face k+1/2 (between k and kp) enters rows k (+) and kp (-).
-            let args = face_args(x, k);
-            let d0 = self.face(closure, (args.0 + h_u, args.1, args.2, args.3), ln_p, floor)?;
-            let d1 = self.face(closure, (args.0, args.1 + h_u, args.2, args.3), ln_p, floor)?;
-            let dp = self.face(closure, args, ln_p + FD_STEP, floor)?;
-            for (col, ds) in [
-                (k, (d0.sigma - sigma[k]) / h_u),
-                (kp, (d1.sigma - sigma[k]) / h_u),
-                (n, (dp.sigma - sigma[k]) / FD_STEP),
-            ] {
-                jac[(k, col)] += ds / (w * scale);
-                jac[(kp, col)] -= ds / (w * scale);
-            }
-            // Bin k enters row k through -f and row n through phi_loc / n.
-            let args = bin_args(x, k);
-            let base = &bins[k];
-            let shifted = [
-                (
-                    km,
-                    self.bin(closure, (args.0 + h_u, args.1, args.2, args.3), ln_p, floor)?,
-                    h_u,
-                ),
-                (
-                    k,
-                    self.bin(closure, (args.0, args.1 + h_u, args.2, args.3), ln_p, floor)?,
-                    h_u,
-                ),
-                (
-                    kp,
-                    self.bin(closure, (args.0, args.1, args.2 + h_u, args.3), ln_p, floor)?,
-                    h_u,
-                ),
-                (n, self.bin(closure, args, ln_p + FD_STEP, floor)?, FD_STEP),
-            ];
-            for (col, state, h) in shifted {
-                jac[(k, col)] -= (state.f - base.f) / (h * scale);
-                jac[(n, col)] += (state.phi_loc - base.phi_loc) / (h * n as f64);
+        let mut blocks = vec![(0, h_u)];
+        if layout.balance.is_some() {
+            blocks.push((layout.theta(0), FD_STEP));
+        }
+        let mut trial = x.clone();
+        for (offset, h) in blocks {
+            for group in colours(n) {
+                trial.copy_from(x);
+                for &j in &group {
+                    trial[offset + j] += h;
+                }
+                let e = self.evaluate(closure, layout, &trial, floor)?;
+                for &j in &group {
+                    let mut volume = 0.0;
+                    for i in [(j + n - 1) % n, j, (j + 1) % n] {
+                        jac[(i, offset + j)] = (e.r[i] - base.r[i]) / h;
+                        if layout.balance.is_some() {
+                            let row = layout.theta(i);
+                            jac[(row, offset + j)] = (e.r[row] - base.r[row]) / h;
+                        }
+                        volume += e.phi_loc[i] - base.phi_loc[i];
+                    }
+                    jac[(n, offset + j)] = volume / (h * n as f64);
+                }
             }
         }
-        Ok((r, Some(jac)))
+        trial.copy_from(x);
+        trial[layout.ln_p()] += FD_STEP;
+        let e = self.evaluate(closure, layout, &trial, floor)?;
+        jac.set_column(layout.ln_p(), &((&e.r - &base.r) / FD_STEP));
+        Ok(jac)
     }
 
     /// The drag density of the forcing, `c phi max|u_inf|`: the unit of the balance residuals.
@@ -192,9 +272,49 @@ impl ProfileProblem {
         (self.drag_coefficient * self.phi * u_max).max(f64::MIN_POSITIVE)
     }
 
+    /// The starting point: `u` and `P` of `from` (default `u = u_inf`, `P = p_start`) and,
+    /// for the nonlocal closure, the Theta that the balance gives for the J of that state.
+    fn start(
+        &self,
+        closure: &dyn Closure,
+        layout: Layout,
+        from: Option<&DVector<f64>>,
+        p_start: f64,
+        floor: f64,
+    ) -> Result<DVector<f64>> {
+        let n = layout.n;
+        let mut x = DVector::zeros(layout.len());
+        match from {
+            Some(from) => x.rows_mut(0, n + 1).copy_from(&from.rows(0, n + 1)),
+            None => {
+                x.rows_mut(0, n).copy_from_slice(&self.u_inf);
+                x[layout.ln_p()] = p_start.ln();
+            }
+        }
+        if let Some(balance) = layout.balance {
+            let j = (0..n)
+                .map(|k| self.bin(closure, layout, &x, k, floor).map(|b| b.j))
+                .collect::<Result<Vec<_>>>()?;
+            for (k, theta) in balance.profile(self.bin_width, &j).into_iter().enumerate() {
+                x[layout.theta(k)] = theta.ln();
+            }
+        }
+        Ok(x)
+    }
+
     /// Solves the balance with `closure`, starting from `u = u_inf` and `P = p_start`.
-    /// A solve that does not reach [`TOLERANCE`] is an error saying how far it got.
-    pub fn solve(&self, closure: &dyn Closure, p_start: f64) -> Result<ProfileSolution> {
+    /// Where Newton's method stalls from there, and `law` is given (a closure that converges,
+    /// the local rheology), the solve follows the closures `(1 - s) law + s closure` from the
+    /// law's solution at `s = 0` to `s = 1`, each from the last, with steps in `s` of 1/4
+    /// that grow by half on success and halve when [`STEP_ITERATIONS`] are not enough (down to
+    /// 1/64). A solve that does
+    /// not reach [`TOLERANCE`] is an error saying how far it got.
+    pub fn solve(
+        &self,
+        closure: &dyn Closure,
+        law: Option<&dyn Closure>,
+        p_start: f64,
+    ) -> Result<ProfileSolution> {
         let n = self.n_bins();
         if n < 3
             || self.bin_width.is_nan()
@@ -214,68 +334,130 @@ impl ProfileProblem {
                 "the forcing u_inf has no shear: nothing drives a profile".to_owned(),
             ));
         }
-        let mut x = DVector::from_iterator(n + 1, self.u_inf.iter().copied().chain([p_start.ln()]));
-        let norm = |r: &DVector<f64>| r.amax();
+        let layout = self.layout(closure);
+        let direct = self.start(closure, layout, None, p_start, floor);
+        let stall =
+            match direct.and_then(|x| self.newton(closure, layout, x, floor, MAX_ITERATIONS)) {
+                Ok(done) => return self.solution(closure, layout, &done, floor, false),
+                Err(e @ SolverError::NotConverged { .. }) if law.is_some() => e,
+                Err(e) => return Err(e),
+            };
+        let law = law.expect("checked above");
+        let law_layout = self.layout(law);
+        let x = self.start(law, law_layout, None, p_start, floor)?;
+        let mut done = self.newton(law, law_layout, x, floor, MAX_ITERATIONS)?;
+        let (mut s, mut ds) = (0.0, 0.25);
+        loop {
+            let target = f64::min(s + ds, 1.0);
+            let blend = Blend {
+                law,
+                closure,
+                weight: target,
+            };
+            let attempt = self
+                .start(&blend, layout, Some(&done.x), p_start, floor)
+                .and_then(|x0| self.newton(&blend, layout, x0, floor, STEP_ITERATIONS));
+            match attempt {
+                Ok(next) => {
+                    done = Converged {
+                        iterations: done.iterations + next.iterations,
+                        ..next
+                    };
+                    s = target;
+                    if s == 1.0 {
+                        return self.solution(closure, layout, &done, floor, true);
+                    }
+                    ds *= 1.5;
+                }
+                Err(SolverError::NotConverged { .. }) if ds > MIN_CONTINUATION_STEP => ds *= 0.5,
+                Err(SolverError::NotConverged { residual, .. }) => {
+                    return Err(SolverError::ContinuationStalled {
+                        direct: Box::new(stall),
+                        reached: s,
+                        residual,
+                    })
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    fn layout<'a>(&self, closure: &'a dyn Closure) -> Layout<'a> {
+        Layout {
+            n: self.n_bins(),
+            balance: match closure.descriptor() {
+                Descriptor::Theta(balance) => Some(balance),
+                _ => None,
+            },
+        }
+    }
+
+    /// Newton's method from `x`: the solution, the iterations taken and the final residual.
+    fn newton(
+        &self,
+        closure: &dyn Closure,
+        layout: Layout,
+        mut x: DVector<f64>,
+        floor: f64,
+        limit: usize,
+    ) -> Result<Converged> {
+        let norm = |e: &Evaluation| e.r.amax();
         let mut iterations = 0;
-        let (mut r, _) = self.linearise(closure, &x, floor, false)?;
-        while norm(&r) > TOLERANCE {
-            if iterations == MAX_ITERATIONS {
-                return Err(SolverError::NotConverged {
-                    stall: Stall::IterationLimit(MAX_ITERATIONS),
-                    iterations,
-                    residual: norm(&r),
-                    tolerance: TOLERANCE,
-                });
+        let mut current = self.evaluate(closure, layout, &x, floor)?;
+        while norm(&current) > TOLERANCE {
+            let stalled = |stall, iterations| SolverError::NotConverged {
+                stall,
+                iterations,
+                residual: norm(&current),
+                tolerance: TOLERANCE,
+            };
+            if iterations == limit {
+                return Err(stalled(Stall::IterationLimit(limit), iterations));
             }
             iterations += 1;
-            let (_, jac) = self.linearise(closure, &x, floor, true)?;
-            let step = jac.and_then(|j| j.lu().solve(&(-&r))).ok_or_else(|| {
-                SolverError::NotConverged {
-                    stall: Stall::SingularJacobian,
-                    iterations,
-                    residual: norm(&r),
-                    tolerance: TOLERANCE,
-                }
-            })?;
-            // Backtracking: halve the step until the residual falls.
+            let jac = self.jacobian(closure, layout, &x, &current, floor)?;
+            let step = jac
+                .lu()
+                .solve(&(-&current.r))
+                .ok_or_else(|| stalled(Stall::SingularJacobian, iterations))?;
+            // Backtracking: halve the step until the sum of squared residuals falls.
             let mut t = 1.0;
             loop {
                 let trial = &x + &step * t;
-                let (r_trial, _) = self.linearise(closure, &trial, floor, false)?;
-                if norm(&r_trial) < norm(&r) || t < 1e-4 {
+                let e = self.evaluate(closure, layout, &trial, floor)?;
+                if e.r.norm() < current.r.norm() || t < 1e-4 {
                     x = trial;
-                    r = r_trial;
+                    current = e;
                     break;
                 }
                 t *= 0.5;
             }
         }
-        self.solution(closure, &x, floor, iterations, norm(&r))
+        Ok(Converged {
+            residual: norm(&current),
+            x,
+            iterations,
+        })
     }
 
     fn solution(
         &self,
         closure: &dyn Closure,
-        x: &DVector<f64>,
+        layout: Layout,
+        done: &Converged,
         floor: f64,
-        iterations: usize,
-        residual: f64,
+        continued: bool,
     ) -> Result<ProfileSolution> {
-        let n = self.n_bins();
-        let ln_p = x[n];
+        let x = &done.x;
         let mut s = ProfileSolution {
-            pressure: ln_p.exp(),
-            iterations,
-            residual,
+            pressure: x[layout.ln_p()].exp(),
+            iterations: done.iterations,
+            residual: done.residual,
+            continued,
             ..ProfileSolution::default()
         };
-        for k in 0..n {
-            let b = self.bin(
-                closure,
-                (x[(k + n - 1) % n], x[k], x[(k + 1) % n], self.u_inf[k]),
-                ln_p,
-                floor,
-            )?;
+        for k in 0..layout.n {
+            let b = self.bin(closure, layout, x, k, floor)?;
             s.u.push(x[k]);
             s.gdot.push(b.gdot);
             s.sigma_xy.push(-b.gdot.signum() * b.mu * s.pressure);
@@ -284,7 +466,45 @@ impl ProfileProblem {
             s.mu.push(b.mu);
             s.delta_v.push(b.delta_v);
             s.f_x.push(b.f);
+            if layout.balance.is_some() {
+                s.theta.push(x[layout.theta(k)].exp());
+            }
         }
         Ok(s)
+    }
+}
+
+/// Groups of bins at least three apart on `n` periodic bins: `k mod 3` for the first
+/// `3 floor(n/3)` bins, each remaining bin alone.
+fn colours(n: usize) -> Vec<Vec<usize>> {
+    let full = 3 * (n / 3);
+    let mut groups: Vec<Vec<usize>> = (0..3.min(n))
+        .map(|c| (c..full).step_by(3).collect())
+        .collect();
+    groups.extend((full..n).map(|k| vec![k]));
+    groups.retain(|g| !g.is_empty());
+    groups
+}
+
+#[cfg(test)]
+mod tests {
+    use super::colours;
+
+    #[test]
+    fn colours_keep_bins_of_one_group_three_apart_periodically() {
+        for n in 3..20 {
+            let groups = colours(n);
+            let mut seen: Vec<usize> = groups.iter().flatten().copied().collect();
+            seen.sort_unstable();
+            assert_eq!(seen, (0..n).collect::<Vec<_>>(), "n = {n}");
+            for g in &groups {
+                for &a in g {
+                    for &b in g {
+                        let d = (a + n - b) % n;
+                        assert!(a == b || d.min(n - d) >= 3, "n = {n}: {a} and {b}");
+                    }
+                }
+            }
+        }
     }
 }

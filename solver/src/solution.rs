@@ -18,15 +18,21 @@ pub struct ProfileSolution {
     pub delta_v: Vec<f64>,
     /// Drag density `c phi_loc (u_inf - u)`.
     pub f_x: Vec<f64>,
+    /// The suspension temperature (eq 6.1) where the closure solves its balance (the
+    /// nonlocal closure); empty otherwise.
+    pub theta: Vec<f64>,
     /// Newton iterations taken.
     pub iterations: usize,
     /// Largest scaled residual at the end.
     pub residual: f64,
+    /// Whether Newton's method stalled from `u = u_inf` and the solve followed the
+    /// continuation from the local law ([`crate::ProfileProblem::solve`]).
+    pub continued: bool,
 }
 
 impl ProfileSolution {
     /// The solved values of observable `o` along y; `None` for those a solve does not give
-    /// per bin (P is uniform; Theta and count are not solved for).
+    /// per bin (P is uniform; count is not solved for, Theta only by the nonlocal closure).
     pub fn column(&self, o: Observable) -> Option<&[f64]> {
         match o {
             Observable::U => Some(&self.u),
@@ -37,6 +43,7 @@ impl ProfileSolution {
             Observable::Mu => Some(&self.mu),
             Observable::DeltaV => Some(&self.delta_v),
             Observable::FX => Some(&self.f_x),
+            Observable::Theta if !self.theta.is_empty() => Some(&self.theta),
             Observable::P | Observable::Theta | Observable::Count => None,
         }
     }

@@ -37,7 +37,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for (x, y, log_y) in PLANES {
         let mut sets = Vec::new();
         for (data, name) in datasets.iter().zip(&names) {
-            let (xs, ys) = (data.column(x)?, data.column(y)?);
+            let (xs, ys) = (data.defined_column(x)?, data.defined_column(y)?);
             sets.push(PointSet {
                 name: format!("{name} ({} rows)", data.n_rows()),
                 points: xs.iter().copied().zip(ys.iter().copied()).collect(),
@@ -74,7 +74,8 @@ fn file_name(path: &Path) -> String {
 
 /// The markdown table of column ranges: one row per numeric column (in order of first
 /// appearance), one cell per dataset: `[min, max]`, then `, k empty` when k cells are empty;
-/// `-` where the dataset lacks the column or holds text in it.
+/// `-` where the dataset lacks the column or holds text in it. A cell spelling NaN or an
+/// infinity is an error (only an empty cell is an undefined value).
 fn ranges_table(datasets: &[Dataset], names: &[String]) -> anyhow::Result<String> {
     let mut columns: Vec<&str> = Vec::new();
     for data in datasets {
@@ -88,13 +89,13 @@ fn ranges_table(datasets: &[Dataset], names: &[String]) -> anyhow::Result<String
     text += &"---|".repeat(names.len());
     text.push('\n');
     for name in columns {
-        let cells: Vec<String> = datasets
+        let cells = datasets
             .iter()
             .map(|data| match data.column(name) {
-                Err(_) => "-".to_string(),
-                Ok(values) => range_cell(values),
+                Err(_) => Ok("-".to_string()),
+                Ok(_) => Ok(range_cell(data.defined_column(name)?)),
             })
-            .collect();
+            .collect::<anyhow::Result<Vec<String>>>()?;
         text += &format!("| `{name}` | {} |\n", cells.join(" | "));
     }
     Ok(text)

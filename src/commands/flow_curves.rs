@@ -13,7 +13,7 @@
 use crate::local_viscosity::{self, LocalBand};
 use crate::plots::data_and_laws::{self, Points};
 use crate::plots::loglog::Line;
-use crate::scene_work::{SceneStatus, SceneWork};
+use crate::scene_work::{Recorded, SceneStatus, SceneWork};
 use anyhow::{bail, Context};
 use sim::input::grid::Grid;
 use sim::output::atomic_write::write_atomic;
@@ -99,6 +99,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if !matches!(work.status()?, SceneStatus::Done(_)) {
             missing.push(gs.label());
             continue;
+        }
+        if work.recorded_scene(&gs.scene.file)? != Recorded::Same {
+            bail!(
+                "{}: the run there was not made for scene {} of {} (another shear rate, \
+                 volume fraction or setting, or no scene.toml): --runs must be the work \
+                 directory in which `suspflow generate` ran this grid",
+                work.dir.display(),
+                gs.id,
+                args.grid.display()
+            );
         }
         let path = work.dir.join("summary.json");
         let bytes = std::fs::read(&path).with_context(|| format!("reading {}", path.display()))?;

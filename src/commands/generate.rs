@@ -332,8 +332,17 @@ fn run_scene(
             ));
         }
         Err(SimError::Interrupted { step }) => log(format!(
-            "{label} interrupted at step {step}; checkpoint saved"
+            "{label} interrupted at step {step}; checkpoint saved (the same command resumes it)"
         )),
+        Err(SimError::InterruptedPacking) => log(format!(
+            "{label} interrupted during its initial packing; nothing to save (the same \
+             command starts it again from its seed)"
+        )),
+        Err(e @ SimError::CheckpointUnusable { .. }) => {
+            let reason = format!("{e}; remove it to run this scene from the start");
+            log(format!("{label} FAILED: {reason}"));
+            work.record_failure(&reason)?;
+        }
         Err(e) => {
             log(format!("{label} FAILED: {e}"));
             work.record_failure(&e.to_string())?;
@@ -422,9 +431,10 @@ fn write_outputs(
         }
         return Ok(None);
     }
+    let ensemble = ensemble_table::build(&outputs.dataset, &dataset.to_text())?;
     Ok(Some(ensemble_table::write_beside(
         &outputs.dataset,
-        &dataset.to_text(),
+        ensemble,
     )?))
 }
 

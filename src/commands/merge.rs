@@ -45,6 +45,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let merged = merged.expect("clap requires at least one part");
     let text = merged.to_text();
+    // Everything is checked before anything is written: a failed merge leaves no output.
+    let ensemble = merged
+        .has_replicas()
+        .then(|| ensemble_table::build(&args.out, &text))
+        .transpose()?;
     sim::output::atomic_write::write_atomic(&args.out, text.as_bytes())?;
     println!(
         "{}: {} rows from {} runs of {} scenes in {} files",
@@ -54,8 +59,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         merged.scene_count(),
         args.parts.len()
     );
-    if merged.has_replicas() {
-        let summary = ensemble_table::write_beside(&args.out, &text)?;
+    if let Some(ensemble) = ensemble {
+        let summary = ensemble_table::write_beside(&args.out, ensemble)?;
         let [table, json] = ensemble_table::paths(&args.out);
         println!(
             "ensemble: {} (summary {})\n{}",

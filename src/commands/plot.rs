@@ -39,14 +39,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         data.text(col::L_Y)?,
         data.text(col::PHI)?,
     );
-    let (y, u_inf) = (data.column(col::Y)?, data.column(col::U_INF)?);
+    let (y, u_inf) = (
+        data.defined_column(col::Y)?,
+        data.defined_column(col::U_INF)?,
+    );
     let seeds = data.text(col::SEED).ok();
     for id in scenes {
         let rows: Vec<usize> = (0..data.n_rows()).filter(|&r| ids[r] == id).collect();
         let replicas = replica_rows(&rows, seeds);
         let mut panels = Vec::new();
         for q in QUANTITIES {
-            let (v, se) = (data.column(q)?, data.column(&col::standard_error(q))?);
+            let (v, se) = (
+                data.defined_column(q)?,
+                data.defined_column(&col::standard_error(q))?,
+            );
             let mut series: Vec<Series> = replicas
                 .iter()
                 .map(|(name, rows)| Series {

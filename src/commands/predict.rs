@@ -7,7 +7,8 @@
 //! units of the domain's threshold (<= 1 is near enough), and the rows outside are counted.
 //! Predictions are clipped into their physical range (`surrogate::physical_range`: 0 <
 //! phi_loc < 0.74, mu >= 0), and the clipped values are counted too.
-use anyhow::Context;
+use anyhow::{bail, Context};
+use schema::columns as col;
 use std::path::PathBuf;
 use std::time::Instant;
 use surrogate::{Dataset, DomainCheck, Predictor};
@@ -100,16 +101,24 @@ fn with_predictions(
     domain: &[DomainCheck],
 ) -> anyhow::Result<String> {
     let names = dataset.column_names();
+    let added: Vec<String> = outputs
+        .iter()
+        .map(|o| format!("{o}{}", col::PREDICTED_SUFFIX))
+        .chain([col::IN_DOMAIN.to_owned(), col::DOMAIN_DISTANCE.to_owned()])
+        .collect();
+    if let Some(taken) = added.iter().find(|a| names.contains(a)) {
+        bail!(
+            "{} already has a column `{taken}` (the output of an earlier predict?): the \
+             predictions would repeat its name; give the table without it",
+            dataset.source_name()
+        );
+    }
     let columns = names
         .iter()
         .map(|n| dataset.text(n))
         .collect::<Result<Vec<_>, _>>()?;
     let mut writer = csv::Writer::from_writer(Vec::new());
-    let header = names
-        .iter()
-        .cloned()
-        .chain(outputs.iter().map(|o| format!("{o}_pred")))
-        .chain(["in_domain".to_owned(), "domain_distance".to_owned()]);
+    let header = names.iter().chain(&added);
     writer.write_record(header)?;
     for (row, (pred, check)) in predicted.iter().zip(domain).enumerate() {
         let cells = columns

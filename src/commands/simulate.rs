@@ -142,17 +142,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         frames.finish()?;
     }
     let outcome = match outcome {
-        Err(SimError::Interrupted { .. }) if !checkpoint.exists() => {
-            anyhow::bail!(
-                "interrupted during the initial packing; nothing to save (the packing is \
-                 drawn again from the scene's seed)"
-            )
-        }
         Err(SimError::Interrupted { step }) => {
             anyhow::bail!(
                 "interrupted at step {step}; state saved in {}; continue with --resume",
                 checkpoint.display()
             )
+        }
+        Err(e @ SimError::CheckpointUnusable { .. }) => {
+            anyhow::bail!("{e}; remove it or drop --resume")
         }
         other => other?,
     };

@@ -1,9 +1,11 @@
 //! `suspflow solve SCENE.toml --models DIR --out DIR`: the steady profile of a scene from
 //! its forcing alone (u_inf(y), phi, box, particle sizes), by the momentum balance closed
-//! with the learned `dv` mapping or with the local rheology (the `solver` crate).
+//! with the learned `dv` mapping, with the local rheology, or nonlocally with the learned
+//! `theta` mapping and the Theta balance (the `solver` crate).
 //! Writes `DIR/profile.csv` (the dataset's columns that the solve determines; no standard
-//! errors) and `DIR/summary.json`; `--compare FILE.csv` puts a simulated profile of the same
-//! scene beside the solutions of both closures.
+//! errors) and `DIR/summary.json` (which closure, and the fitted Theta balance); `--compare
+//! FILE.csv` puts a simulated profile of the same scene beside the solutions of every
+//! closure.
 use crate::output_guard;
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
 use anyhow::{bail, Context};
@@ -12,10 +14,15 @@ use schema::columns as col;
 use schema::Observable;
 use serde::Serialize;
 use sim::input::scene::Scene;
-use solver::{fit_local_rheology, LearnedClosure, ProfileProblem, ProfileSolution, SolverError};
+use solver::{
+    fit_local_rheology, Closure, LearnedClosure, NonlocalClosure, ProfileProblem, ProfileSolution,
+    SolverError, ThetaBalance, ThetaBalanceFit,
+};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use surrogate::{relative_l2_error, Dataset, Predictor};
+use surrogate::{
+    relative_l2_error, Dataset, DomainCheck, Mapping, Predictor, Samples, TrainingDomain,
+};
 
 /// Starting pressure of the Newton iterations (units eta/time; the training scenes have
 /// 0.03-0.2).
@@ -28,19 +35,102 @@ pub enum ClosureKind {
     Learned,
     /// mu = A J^b and phi_loc by eq 6.7, fitted on the training data.
     Local,
+    /// The trained `theta` mapping, (J, Theta, phi) -> (phi_loc, mu), with Theta from its
+    /// balance l^2 Theta'' = Theta - c J^beta fitted on the training data.
+    Nonlocal,
+}
+
+impl ClosureKind {
+    const ALL: [ClosureKind; 3] = [
+        ClosureKind::Learned,
+        ClosureKind::Local,
+        ClosureKind::Nonlocal,
+    ];
+
+    fn name(self) -> &'static str {
+        match self {
+            ClosureKind::Learned => "learned",
+            ClosureKind::Local => "local",
+            ClosureKind::Nonlocal => "nonlocal",
+        }
+    }
+}
+
+/// The three closures, built from the models and their training data.
+struct Closures {
+    learned: LearnedClosure,
+    local: surrogate::LocalRheology,
+    nonlocal: NonlocalClosure,
+    theta_fit: ThetaBalanceFit,
+    /// Each closure's training domain and its features, in the order of
+    /// [`ClosureKind::ALL`].
+    domains: Vec<(TrainingDomain, Vec<String>)>,
+}
+
+impl Closures {
+    fn load(models: &Path, train: Option<&Path>) -> anyhow::Result<Self> {
+        let load = |name: &str| {
+            Predictor::load(models, name)
+                .with_context(|| format!("loading model `{name}` from {}", models.display()))
+        };
+        let dv = load("dv")?;
+        let train = train
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| PathBuf::from(&dv.meta().training_data.source));
+        let train_data = Dataset::read_csv(&train)
+            .with_context(|| format!("reading the training data {}", train.display()))?;
+        let theta_fit = ThetaBalance::fit(&train_data)?;
+        let theta = load("theta")?;
+        let dv_features = dv.meta().features.clone();
+        // The local law is fitted on the training rows: its domain is theirs.
+        let local_domain = TrainingDomain::fit(&Samples::from_dataset(
+            &train_data,
+            Mapping::by_name("dv")?,
+        )?)?;
+        let domains = vec![
+            (dv.domain().clone(), dv_features.clone()),
+            (local_domain, dv_features),
+            (theta.domain().clone(), theta.meta().features.clone()),
+        ];
+        Ok(Closures {
+            learned: LearnedClosure::new(dv)?,
+            local: fit_local_rheology(&train_data)?,
+            nonlocal: NonlocalClosure::new(theta, theta_fit.balance)?,
+            theta_fit,
+            domains,
+        })
+    }
+
+    fn domain(&self, kind: ClosureKind) -> (&TrainingDomain, &[String]) {
+        let (domain, features) = match kind {
+            ClosureKind::Learned => &self.domains[0],
+            ClosureKind::Local => &self.domains[1],
+            ClosureKind::Nonlocal => &self.domains[2],
+        };
+        (domain, features)
+    }
+
+    fn get(&self, kind: ClosureKind) -> &dyn Closure {
+        match kind {
+            ClosureKind::Learned => &self.learned,
+            ClosureKind::Local => &self.local,
+            ClosureKind::Nonlocal => &self.nonlocal,
+        }
+    }
 }
 
 #[derive(clap::Args)]
 pub struct Args {
     /// Scene file (TOML): profile, phi, box, particle sizes, bin width.
     scene: PathBuf,
-    /// Directory of the trained models (reads the `dv` mapping).
+    /// Directory of the trained models (reads the `dv` and `theta` mappings).
     #[arg(long, default_value = "models")]
     models: PathBuf,
     /// Closure of the momentum balance.
     #[arg(long, value_enum, default_value_t = ClosureKind::Learned)]
     closure: ClosureKind,
-    /// Training dataset the local rheology is fitted on (default: the `dv` model's own).
+    /// Training dataset the local rheology and the Theta balance are fitted on (default: the
+    /// `dv` model's own).
     #[arg(long)]
     train: Option<PathBuf>,
     /// Output directory for profile.csv and summary.json.
@@ -50,7 +140,7 @@ pub struct Args {
     #[arg(long)]
     force: bool,
     /// A simulated profile of this scene (`profile.csv` of `simulate`, or a dataset holding
-    /// the scene's rows under its name): relative L2 errors of both closures.
+    /// the scene's rows under its name): relative L2 errors of every closure.
     #[arg(long)]
     compare: Option<PathBuf>,
 }
@@ -59,11 +149,21 @@ pub struct Args {
 struct Summary<'a> {
     scene: &'a str,
     closure: ClosureKind,
+    /// The Theta balance the nonlocal closure solves (fitted whatever the closure).
+    theta_balance: ThetaBalanceFit,
     bins: usize,
     iterations: usize,
+    /// Whether Newton's method stalled from u = u_inf and the solve followed the
+    /// continuation from the local law.
+    continued: bool,
     /// Largest balance residual, in units of the forcing's drag density.
     residual: f64,
     pressure: f64,
+    /// Bins outside the closure's training domain (columns `in_domain`, `domain_distance`
+    /// of profile.csv): their closure values are extrapolations.
+    bins_outside_domain: usize,
+    /// Largest `domain_distance` over the bins (<= 1 is near enough the training rows).
+    largest_domain_distance: f64,
     wall_ms: f64,
     code_version: &'a str,
 }
@@ -80,40 +180,40 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "an earlier solution",
         "choose another --out",
     )?;
-    let predictor = Predictor::load(&args.models, "dv")
-        .with_context(|| format!("loading model `dv` from {}", args.models.display()))?;
-    let train = args
-        .train
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(&predictor.meta().training_data.source));
-    let learned = LearnedClosure::new(predictor)?;
-    let train_data =
-        Dataset::read_csv(&train).context("reading the training data for the local rheology")?;
-    let law = fit_local_rheology(&train_data)?;
+    let closures = Closures::load(&args.models, args.train.as_deref())?;
     let started = Instant::now();
-    let solution = match args.closure {
-        ClosureKind::Learned => problem.solve(&learned, START_PRESSURE),
-        ClosureKind::Local => problem.solve(&law, START_PRESSURE),
-    }
-    .map_err(|e| with_hint(e, args.closure))
-    .with_context(|| {
-        format!(
-            "solving {} with the {:?} closure",
-            args.scene.display(),
-            args.closure
+    let solution = problem
+        .solve(
+            closures.get(args.closure),
+            Some(&closures.local),
+            START_PRESSURE,
         )
-    })?;
+        .map_err(|e| with_hint(e, args.closure))
+        .with_context(|| {
+            format!(
+                "solving {} with the {} closure",
+                args.scene.display(),
+                args.closure.name()
+            )
+        })?;
     let wall_ms = started.elapsed().as_secs_f64() * 1e3;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    write_profile(&profile_csv, &scene, &problem, &solution)?;
+    let (domain, features) = closures.domain(args.closure);
+    let checks = domain_checks(domain, features, scene.file.particles.phi, &solution)?;
+    write_profile(&profile_csv, &scene, &problem, &solution, &checks)?;
+    let outside = checks.iter().filter(|c| !c.inside()).count();
     let summary = Summary {
         scene: &scene.file.name,
         closure: args.closure,
+        theta_balance: closures.theta_fit,
         bins: problem.n_bins(),
         iterations: solution.iterations,
+        continued: solution.continued,
         residual: solution.residual,
         pressure: solution.pressure,
+        bins_outside_domain: outside,
+        largest_domain_distance: checks.iter().map(|c| c.distance).fold(0.0, f64::max),
         wall_ms,
         code_version: crate::CODE_VERSION,
     };
@@ -122,50 +222,95 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         serde_json::to_string_pretty(&summary)?,
     )?;
     println!(
-        "{}: {:?} closure, {} bins, {} Newton iterations, residual {:.1e}, P {:.4}, {:.1} ms -> {}",
+        "{}: {} closure, {} bins, {} Newton iterations{}, residual {:.1e}, P {:.4}, {:.1} ms -> {}",
         scene.file.name,
-        args.closure,
+        args.closure.name(),
         summary.bins,
         solution.iterations,
+        if solution.continued {
+            " (by continuation from the local law)"
+        } else {
+            ""
+        },
         solution.residual,
         solution.pressure,
         wall_ms,
         profile_csv.display()
     );
+    if outside > 0 {
+        eprintln!(
+            "warning: {outside} of {} bins lie outside the training domain of the {:?} closure \
+             (largest domain distance {:.2}, 1 = the threshold): their closure values are \
+             extrapolations (profile.csv column in_domain = false)",
+            summary.bins, args.closure, summary.largest_domain_distance
+        );
+    }
     if let Some(path) = &args.compare {
-        let (other, other_solution) = match args.closure {
-            ClosureKind::Learned => (ClosureKind::Local, problem.solve(&law, START_PRESSURE)),
-            ClosureKind::Local => (
-                ClosureKind::Learned,
-                problem.solve(&learned, START_PRESSURE),
-            ),
-        };
+        let others: Vec<(ClosureKind, ProfileSolution)> = ClosureKind::ALL
+            .into_iter()
+            .filter(|&kind| kind != args.closure)
+            .filter_map(|kind| {
+                match problem.solve(closures.get(kind), Some(&closures.local), START_PRESSURE) {
+                    Ok(s) => Some((kind, s)),
+                    Err(e) => {
+                        println!("{} closure left out of the comparison: {e}", kind.name());
+                        None
+                    }
+                }
+            })
+            .collect();
         let mut solutions = vec![(args.closure, &solution)];
-        match &other_solution {
-            Ok(s) => solutions.push((other, s)),
-            Err(e) => println!("{other:?} closure left out of the comparison: {e}"),
-        }
+        solutions.extend(others.iter().map(|(kind, s)| (*kind, s)));
         compare(path, &args.out, &scene, &problem, &solutions)?;
     }
     Ok(())
 }
 
-/// A learned solve that stalls is an error that points to the other closure.
+/// A learned solve that stalls is an error that points to the local closure.
 fn with_hint(e: SolverError, closure: ClosureKind) -> anyhow::Error {
     match e {
-        SolverError::NotConverged { .. } if closure == ClosureKind::Learned => {
+        SolverError::NotConverged { .. } | SolverError::ContinuationStalled { .. }
+            if closure != ClosureKind::Local =>
+        {
             anyhow::anyhow!("{e} (try --closure local)")
         }
         e => e.into(),
     }
 }
 
-/// Writes the solution with the dataset's column names; standard errors are left out.
+/// Where each solved bin lies relative to the closure's training rows, in the closure's
+/// features (`features`, their order): J and Delta_v or Theta of the solution, the scene's phi.
+/// The learned closures' domains are their models' own; the local closure's is fitted on
+/// its training file (the law is fitted on those rows).
+fn domain_checks(
+    domain: &TrainingDomain,
+    features: &[String],
+    phi: f64,
+    s: &ProfileSolution,
+) -> anyhow::Result<Vec<DomainCheck>> {
+    let columns = features
+        .iter()
+        .map(
+            |name| match Observable::from_name(name).and_then(|o| s.column(o)) {
+                Some(values) => Ok(values.to_vec()),
+                None if name == col::PHI => Ok(vec![phi; s.j.len()]),
+                None => bail!("a solve gives no `{name}` per bin for the training-domain check"),
+            },
+        )
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let rows = Array2::from_shape_fn((s.j.len(), columns.len()), |(k, f)| columns[f][k]);
+    Ok(domain.check(rows.view())?)
+}
+
+/// Writes the solution with the dataset's column names and the bins' training-domain check
+/// (`in_domain`, `domain_distance`, as `predict` writes them); standard errors are left out,
+/// and Theta is empty unless the closure solved for it.
 fn write_profile(
     path: &Path,
     scene: &Scene,
     problem: &ProfileProblem,
     s: &ProfileSolution,
+    checks: &[DomainCheck],
 ) -> anyhow::Result<()> {
     let mut w =
         csv::Writer::from_path(path).with_context(|| format!("writing {}", path.display()))?;
@@ -183,8 +328,11 @@ fn write_profile(
         col::PHI_LOC,
         col::J,
         col::MU,
+        col::THETA,
         col::DELTA_V,
         col::F_X,
+        col::IN_DOMAIN,
+        col::DOMAIN_DISTANCE,
     ])?;
     let f = &scene.file;
     for (k, y) in problem.bin_centres().into_iter().enumerate() {
@@ -198,8 +346,6 @@ fn write_profile(
             s.phi_loc[k],
             s.j[k],
             s.mu[k],
-            s.delta_v[k],
-            s.f_x[k],
         ];
         let mut record = vec![
             f.name.clone(),
@@ -208,6 +354,12 @@ fn write_profile(
             format!("{:e}", f.particles.phi),
         ];
         record.extend(numbers.iter().map(|x| format!("{x:e}")));
+        record.push(s.theta.get(k).map_or(String::new(), |t| format!("{t:e}")));
+        record.extend([s.delta_v[k], s.f_x[k]].iter().map(|x| format!("{x:e}")));
+        record.extend([
+            checks[k].inside().to_string(),
+            format!("{:e}", checks[k].distance),
+        ]);
         w.write_record(&record)?;
     }
     w.flush()?;
@@ -250,7 +402,7 @@ fn compare(
     let mut panels = Vec::new();
     let mut lines: Vec<String> = solutions
         .iter()
-        .map(|(kind, _)| format!("  {:<8}", format!("{kind:?}").to_lowercase()))
+        .map(|(kind, _)| format!("  {:<8}", kind.name()))
         .collect();
     for observable in [Observable::U, Observable::PhiLoc, Observable::Mu] {
         let name = observable.name();
@@ -274,7 +426,7 @@ fn compare(
             let error = relative_l2_error(simulated.view(), column.view())?[0];
             *line += &format!(" {:>7.2}%", 100.0 * error);
             series.push(Series {
-                name: format!("solved, {} closure", format!("{kind:?}").to_lowercase()),
+                name: format!("solved, {} closure", kind.name()),
                 points: y.iter().copied().zip(solved.iter().copied()).collect(),
                 errors: None,
             });

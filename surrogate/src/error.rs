@@ -39,6 +39,21 @@ pub enum SurrogateError {
         value: f64,
     },
 
+    /// A value that no flow can have (negative J, phi = 2, ...; see
+    /// [`crate::data::physical_range::measured_range`]).
+    #[error("{source_name}: data row {row}, column `{column}`: {value} is not physical ({range})")]
+    Unphysical {
+        source_name: String,
+        row: usize,
+        column: String,
+        value: f64,
+        range: String,
+    },
+
+    /// The files of a saved model disagree with each other or hold impossible values.
+    #[error("model {model}: {detail}")]
+    InconsistentModel { model: String, detail: String },
+
     /// A value that must be positive (e.g. to take its logarithm) is not.
     #[error("{source_name}: data row {row}, column `{column}`: {value} is not positive, so it has no logarithm")]
     NonPositive {

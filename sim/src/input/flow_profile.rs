@@ -9,7 +9,7 @@
 //! Units: `y` and `L_y` in particle radii `a`; `u` in `a` per unit time; `u'` in 1/time.
 
 use crate::error::SimError;
-use crate::input::profile_syntax::{check_function_names, ScientificNumber};
+use crate::input::profile_syntax::{check_function_names, locate_syntax_error, ScientificNumber};
 use exmex::prelude::*;
 use exmex::FloatOpsFactory;
 
@@ -282,7 +282,10 @@ enum Derivatives {
 impl Exact {
     fn parse(expr: &str, l_y: f64) -> Result<Exact, String> {
         check_function_names(expr)?;
-        let u = Expr::parse(expr).map_err(|e| format!("does not parse: {e}"))?;
+        let u = Expr::parse(expr).map_err(|e| match locate_syntax_error(expr) {
+            Some(place) => format!("does not parse {place}"),
+            None => format!("does not parse: {e}"),
+        })?;
         let names = u.var_names().to_vec();
         if let Some(unknown) = names
             .iter()

@@ -28,7 +28,7 @@ use crate::input::replica_seeds::replica_seeds;
 use crate::input::scene::{Scene, SceneFile};
 use crate::input::scene_limits::show;
 use serde::Deserialize;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 use toml::{Table, Value};
 
@@ -77,6 +77,16 @@ pub struct Grid {
     /// Every replica of every scene, scenes in grid order, each scene's replicas in the
     /// order of its seeds.
     pub runs: Vec<GridRun>,
+}
+
+/// A scene as the values it holds, without its name and the spelling of its values: the
+/// parsed file (where `12` and `12.0` are one number and dotted and inline tables one
+/// table) with the profile's whitespace removed.
+fn spelling_free(file: &SceneFile) -> String {
+    let mut file = file.clone();
+    file.name.clear();
+    file.fluid.profile.retain(|c| !c.is_whitespace());
+    serde_json::to_string(&file).unwrap_or_default()
 }
 
 fn grid_error(message: impl Into<String>) -> SimError {
@@ -188,6 +198,12 @@ impl Grid {
                 )));
             }
         }
+        if file.vary.contains_key("name") {
+            return Err(grid_error(
+                "[vary] lists `name`; scene names are `<grid name>_<index>`, and scenes that \
+                 differ only in their name are one scene",
+            ));
+        }
         for (k, case) in file.cases.iter().enumerate() {
             if case.contains_key("name") {
                 return Err(grid_error(format!(
@@ -210,6 +226,7 @@ impl Grid {
         let total = grid_size(cases.len(), &lists, file.replicas)?;
         let width = total.saturating_sub(1).to_string().len().max(3);
         let mut runs = Vec::with_capacity(total);
+        let mut seen: HashMap<String, String> = HashMap::new();
         for (c, case) in cases.iter().enumerate() {
             for combo in 0..per_case {
                 let index = c * per_case + combo;
@@ -237,6 +254,14 @@ impl Grid {
                     let scene_file: SceneFile = Value::Table(table.clone())
                         .try_into()
                         .map_err(|e| grid_error(format!("scene {id}: {e}")))?;
+                    if let Some(first) = seen.insert(spelling_free(&scene_file), id.clone()) {
+                        return Err(grid_error(format!(
+                            "scenes {first} and {id} are the same scene (seed {seed}) with \
+                             values spelled two ways (12 and 12.0, spaces in the profile, \
+                             ...): the grid would run it twice, and its copies would leak \
+                             across cross-validation folds"
+                        )));
+                    }
                     let scene = Scene::from_file(scene_file, strict)
                         .map_err(|e| grid_error(format!("scene {id}: {e}")))?;
                     runs.push(GridRun {

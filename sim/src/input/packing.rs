@@ -57,7 +57,7 @@ pub fn random_packing(
 /// [`random_packing`], calling `watch` with the number of overlapping pairs after every
 /// relaxation iteration (an iteration of a million spheres takes a fraction of a second,
 /// the relaxation up to [`MAX_ITERATIONS`] of them): the packing stops with
-/// [`SimError::Interrupted`] (at step 0) as soon as `watch` returns false.
+/// [`SimError::InterruptedPacking`] as soon as `watch` returns false.
 pub fn random_packing_watched(
     radii: &[f64],
     box_len: [f64; 3],
@@ -168,7 +168,7 @@ impl Relaxation<'_> {
                 return Ok(());
             }
             if !watch(overlaps.violations) {
-                return Err(SimError::Interrupted { step: 0 });
+                return Err(SimError::InterruptedPacking);
             }
             let f_sq: f64 = f.iter().map(|fi| dot(fi, fi)).sum();
             if f_sq < JAMMED_FORCE_RATIO * 2.0 * overlaps.energy {
@@ -401,7 +401,7 @@ mod tests {
                 seen.len() < 3
             },
         );
-        assert!(matches!(stopped, Err(SimError::Interrupted { step: 0 })));
+        assert!(matches!(stopped, Err(SimError::InterruptedPacking)));
         assert_eq!(seen.len(), 3);
         assert!(seen.iter().all(|&o| o > 0), "{seen:?}");
     }

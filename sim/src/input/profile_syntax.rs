@@ -78,9 +78,119 @@ pub fn check_function_names(expr: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// Where an expression that exmex refused breaks the grammar of profiles, as `at character
+/// N (1-based): what is wrong`, or `None` when this scan finds nothing (exmex's own message
+/// is then the best there is). Called only after exmex failed, so it never refuses what
+/// exmex accepts: operands (numbers, names, calls `f(...)`, parenthesised expressions)
+/// alternate with the binary operators `+ - * / ^`, a sign may precede an operand, commas
+/// separate a call's arguments, and parentheses pair up.
+pub fn locate_syntax_error(expr: &str) -> Option<String> {
+    let chars: Vec<(usize, char)> = expr.char_indices().collect();
+    let position = |byte: usize| expr[..byte].chars().count() + 1;
+    let at = |byte: usize, what: String| Some(format!("at character {}: {what}", position(byte)));
+    // Byte offsets of the open parentheses, and whether each opens a call (commas allowed).
+    let mut open: Vec<(usize, bool)> = Vec::new();
+    let mut want_operand = true;
+    let mut k = 0;
+    while k < chars.len() {
+        let (byte, c) = chars[k];
+        let rest = &expr[byte..];
+        if c.is_whitespace() {
+            k += 1;
+            continue;
+        }
+        if want_operand {
+            if let Some(number) = ScientificNumber::is_literal(rest) {
+                k += number.chars().count();
+                want_operand = false;
+            } else if c.is_alphabetic() || c == '_' {
+                let len = rest
+                    .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+                    .unwrap_or(rest.len());
+                k += rest[..len].chars().count();
+                let after = rest[len..].trim_start();
+                if after.starts_with('(') {
+                    let skip = rest[len..].len() - after.len();
+                    open.push((byte + len + skip, true));
+                    k += rest[len..len + skip].chars().count() + 1;
+                } else {
+                    want_operand = false;
+                }
+            } else if c == '(' {
+                open.push((byte, false));
+                k += 1;
+            } else if c == '-' || c == '+' {
+                k += 1;
+            } else {
+                return at(byte, format!("`{c}` where a number, a name or `(` belongs"));
+            }
+        } else {
+            match c {
+                '+' | '-' | '*' | '/' | '^' => want_operand = true,
+                ')' => {
+                    if open.pop().is_none() {
+                        return at(byte, "`)` closes no `(`".into());
+                    }
+                }
+                ',' if open.last().is_some_and(|&(_, call)| call) => want_operand = true,
+                _ => {
+                    return at(
+                        byte,
+                        format!("`{c}` where an operator (+ - * / ^) or `)` belongs"),
+                    )
+                }
+            }
+            k += 1;
+        }
+    }
+    if let Some(&(byte, _)) = open.last() {
+        return at(byte, "this `(` is never closed".into());
+    }
+    if want_operand {
+        return Some(format!(
+            "at character {}: the expression ends where a number, a name or `(` belongs",
+            expr.chars().count() + 1
+        ));
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn syntax_errors_are_located() {
+        for (expr, expected) in [
+            (
+                "0.1*sin(2*pi*y/L",
+                "at character 8: this `(` is never closed",
+            ),
+            ("0.1*sin(2*pi*y/L))", "at character 18: `)` closes no `(`"),
+            (
+                "0.1*sin(2*pi*y/L) y",
+                "at character 19: `y` where an operator",
+            ),
+            ("0.1*sin(2*pi*y/L)*", "at character 19: the expression ends"),
+            (
+                "0.1**y",
+                "at character 5: `*` where a number, a name or `(` belongs",
+            ),
+            ("(y, L)", "at character 3: `,` where an operator"),
+        ] {
+            let message = locate_syntax_error(expr).unwrap_or_default();
+            assert!(message.contains(expected), "{expr}: {message}");
+        }
+        for good in [
+            "0.1*sin(2*pi*y/L)^3",
+            "-1e-3*cos (y)",
+            "atan2(y, L)",
+            "e*y",
+            "(-(y))",
+        ] {
+            assert_eq!(locate_syntax_error(good), None, "{good}");
+        }
+    }
 
     #[test]
     fn literals_include_exponents() {

@@ -400,8 +400,9 @@ impl Scene {
             return Err(SimError::field(
                 "particles.phi",
                 format!(
-                    "must lie in (0, {PHI_MAX}]: the random packing jams below {PHI_MAX} \
-                     (random close packing 0.64-0.66; only a crystal is denser), got {}",
+                    "must lie in (0, {PHI_MAX}]: the initial packing reaches {PHI_MAX} and \
+                     jams at 0.645 (measured for radii 1 : 1, 1 : 1.4 and 1 : 3; only a \
+                     crystal is denser), got {}",
                     show(p.phi)
                 ),
             ));

@@ -19,11 +19,14 @@ struct Range {
     why: &'static str,
 }
 
-/// Densest volume fraction accepted: the random packing jams below it. Random close
-/// packing of spheres is 0.64 (monodisperse) to about 0.66 for moderate size ratios
-/// (docs/physics.md section 3: phi_J ~ 0.64 for 1 : 1.4); 0.74 is reached only by
-/// the crystal, which a random packing never finds.
-pub const PHI_MAX: f64 = 0.68;
+/// Densest volume fraction accepted: the densest the initial packing was measured to
+/// reach (`cargo run --release -p sim --example densest_packing -- 24 0.005`, cubic box of
+/// side 24, three seeds per phi, 2026-12-02, machine shared): radii 1 : 1.4 (the default)
+/// packed at 0.640 (1 of 3 seeds, 17 s at N = 1128), 1 : 3 at 0.640 (2 of 3), 1 : 1 at
+/// 0.630; at 0.645 every seed of every set jammed. Between 0.63 and 0.64 a packing may
+/// still jam for some seeds and radii; the run then stops at once saying so. (0.74 is
+/// reached only by the crystal, which a random packing never finds.)
+pub const PHI_MAX: f64 = 0.64;
 
 /// Largest ratio of the largest to the smallest radius: beyond it the cell list, sized by
 /// the largest pair, holds thousands of small spheres per cell and the small spheres'

@@ -15,7 +15,7 @@ pub fn save<T: Serialize>(path: &Path, state: &T) -> Result<(), SimError> {
 
 /// Loads a state saved by [`save`].
 pub fn load<T: DeserializeOwned>(path: &Path) -> Result<T, SimError> {
-    let err = |m: String| SimError::Checkpoint {
+    let err = |m: String| SimError::CheckpointUnusable {
         path: path.display().to_string(),
         message: m,
     };

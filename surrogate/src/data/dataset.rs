@@ -165,6 +165,27 @@ impl Dataset {
             })
     }
 
+    /// [`Dataset::column`] for readers that draw or tabulate the values: NaN for an empty
+    /// cell (an undefined value), and an error naming the row for a cell that spells NaN or
+    /// an infinity, which no writer of these tables puts there.
+    pub fn defined_column(&self, name: &str) -> Result<&[f64]> {
+        let values = self.column(name)?;
+        let text = self.text(name)?;
+        match values
+            .iter()
+            .zip(text)
+            .position(|(v, t)| !v.is_finite() && !t.is_empty())
+        {
+            None => Ok(values),
+            Some(row) => Err(SurrogateError::NonFinite {
+                source_name: self.source_name.clone(),
+                row: row + 1,
+                column: name.to_owned(),
+                value: values[row],
+            }),
+        }
+    }
+
     /// The cells of column `name` as text, one per row.
     pub fn text(&self, name: &str) -> Result<&[String]> {
         Ok(&self.find(name)?.text)

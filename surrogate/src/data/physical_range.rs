@@ -40,6 +40,34 @@ pub fn physical_range(name: &str) -> Option<Range> {
     }
 }
 
+/// The range a measured value of column `name` can take, with its reason, or `None` for a
+/// column without physical bounds: the data a model is trained or validated on must lie in
+/// it (a table with negative J or phi = 2 is corrupt, not a flow). Closed at 0: an empty
+/// bin has phi_loc = 0, a velocity extremum mu = J = 0.
+pub fn measured_range(name: &str) -> Option<(Range, &'static str)> {
+    let at_least_zero = Range {
+        min: 0.0,
+        max: f64::INFINITY,
+    };
+    match name {
+        col::PHI_LOC | col::PHI => Some((
+            Range {
+                min: 0.0,
+                max: PHI_LOC_MAX,
+            },
+            "a volume fraction lies in [0, 0.74], 0.74 the densest packing of spheres",
+        )),
+        col::J => Some((at_least_zero, "J = eta |gdot| / P >= 0")),
+        col::MU => Some((at_least_zero, "mu = |sigma_xy| / P >= 0")),
+        col::THETA => Some((at_least_zero, "Theta = eta du / (a P) >= 0, eq 6.1")),
+        col::DELTA_V => Some((
+            at_least_zero,
+            "Delta_v = |u_inf - u| / (|u_inf| + 1e-5) >= 0, eq 6.2",
+        )),
+        _ => None,
+    }
+}
+
 /// Clips every column of `values` (rows x outputs, columns named by `outputs`) into its
 /// output's [`physical_range`]; returns the number of cells changed. NaN stays NaN.
 pub fn clip_to_physical_range<S: AsRef<str>>(outputs: &[S], values: &mut Array2<f64>) -> usize {
@@ -62,6 +90,16 @@ pub fn clip_to_physical_range<S: AsRef<str>>(outputs: &[S], values: &mut Array2<
 mod tests {
     use super::*;
     use ndarray::array;
+
+    #[test]
+    fn measured_ranges_bound_the_local_state_and_leave_the_rest_free() {
+        let inside =
+            |name: &str, v: f64| measured_range(name).is_none_or(|(r, _)| v >= r.min && v <= r.max);
+        assert!(inside("phi_loc", 0.0) && inside("phi_loc", 0.6) && !inside("phi_loc", -0.01));
+        assert!(!inside("phi", 2.0) && !inside("J", -1e-9) && inside("J", 1e3));
+        assert!(!inside("mu", -0.1) && !inside("Theta", -1.0) && !inside("Delta_v", -1.0));
+        assert!(inside("u", -5.0) && inside("sigma_xy", -1.0));
+    }
 
     #[test]
     fn clips_only_the_bounded_outputs_and_counts_the_cells() {

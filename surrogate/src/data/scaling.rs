@@ -47,6 +47,32 @@ impl MinMaxScaling {
         Ok(MinMaxScaling { ranges })
     }
 
+    /// `Err(what is wrong)` unless every range is finite with `min <= max`, and, when
+    /// `nonzero` (the outputs' ranges, which eq 6.6's error divides by), `min < max`. Column
+    /// `k` is named `names[k]`.
+    pub fn check<S: AsRef<str>>(
+        &self,
+        names: &[S],
+        nonzero: bool,
+    ) -> std::result::Result<(), String> {
+        for (range, name) in self.ranges.iter().zip(names) {
+            let name = name.as_ref();
+            let Range { min, max } = *range;
+            if !(min.is_finite() && max.is_finite()) || min > max {
+                return Err(format!(
+                    "the range of `{name}` is [{min}, {max}], not a range"
+                ));
+            }
+            if nonzero && min == max {
+                return Err(format!(
+                    "the range of `{name}` is [{min}, {max}], of zero width: the outputs were \
+                     the same in every training row, and scaled errors (eq 6.4, 6.6) are 0 / 0"
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// `values` scaled column by column (eq 6.4).
     pub fn scale(&self, values: ArrayView2<f64>) -> Result<Array2<f64>> {
         self.map_columns(values, |range, v| (v - range.min) / range.span())
@@ -114,6 +140,20 @@ mod tests {
         let scaled = scaling.scale(values.view()).unwrap();
         assert_eq!(scaled, array![[0.0], [0.0]]);
         assert_eq!(scaling.unscale(scaled.view()).unwrap(), values);
+    }
+
+    #[test]
+    fn impossible_ranges_are_named() {
+        let scaling = |min: f64, max: f64| MinMaxScaling {
+            ranges: vec![Range { min, max }],
+        };
+        assert!(scaling(0.1, 2.0).check(&["mu"], true).is_ok());
+        assert!(scaling(0.5, 0.5).check(&["mu"], false).is_ok());
+        let zero = scaling(0.5, 0.5).check(&["mu"], true).unwrap_err();
+        assert!(zero.contains("`mu` is [0.5, 0.5], of zero width"), "{zero}");
+        let inverted = scaling(2.0, 0.1).check(&["mu"], false).unwrap_err();
+        assert!(inverted.contains("[2, 0.1], not a range"), "{inverted}");
+        assert!(scaling(f64::NAN, 1.0).check(&["mu"], false).is_err());
     }
 
     #[test]

@@ -122,6 +122,11 @@ impl DomainCheck {
 /// The training rows of a mapping in domain coordinates, with the distance threshold.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrainingDomain {
+    /// The feature of each axis: a domain read beside a model must be of its features.
+    pub features: Vec<String>,
+    /// FNV-1a 64 hash of the training source's bytes (16 hex digits), as in the model's
+    /// sidecar: a domain read beside a model must be of its training rows.
+    pub training_fnv1a_64: String,
     /// One axis per feature, in the model's feature order.
     pub axes: Vec<FeatureAxis>,
     /// Leave-one-simulation-out nearest-neighbour distance quantile (domain coordinates).
@@ -166,6 +171,8 @@ impl TrainingDomain {
         // A threshold of 0 (duplicated simulations) would call every new row outside.
         let threshold = nearest[rank].max(f64::EPSILON);
         Ok(TrainingDomain {
+            features: samples.feature_names.clone(),
+            training_fnv1a_64: format!("{:016x}", samples.source_fingerprint),
             axes,
             threshold,
             points,

@@ -117,6 +117,11 @@ impl Forest {
         self.base_score.len()
     }
 
+    /// Number of trees (of all outputs).
+    pub fn n_trees(&self) -> usize {
+        self.trees.len()
+    }
+
     /// Predictions (rows x outputs) for `features` (rows x features), all finite.
     pub fn predict(&self, features: ArrayView2<f64>) -> Result<Array2<f64>> {
         if features.ncols() != self.n_features {

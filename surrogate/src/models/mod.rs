@@ -2,6 +2,7 @@
 //! back as predictors that walk the trees themselves; the relative L2 error (eq 6.6).
 
 pub mod booster;
+pub mod bundle;
 pub mod forest;
 pub mod metrics;
 pub mod model;

@@ -100,6 +100,7 @@ impl TrainedModel {
             },
             xgboost_version: xgboost_version(),
         };
+        crate::models::bundle::check_meta(&meta).map_err(SurrogateError::InvalidArgument)?;
         Ok(TrainedModel {
             meta,
             booster,
@@ -161,7 +162,13 @@ impl TrainedModel {
     /// booster and the mapping's current definition agree on features and outputs.
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         let (meta, booster, domain) = ModelMeta::load_with(dir, name, Booster::load_json, |b| {
-            (b.n_features(), b.n_outputs(), b.feature_names().to_vec())
+            // XGBoost reads the trees itself; their count is checked where they are walked.
+            (
+                b.n_features(),
+                b.n_outputs(),
+                b.feature_names().to_vec(),
+                None,
+            )
         })?;
         Ok(TrainedModel {
             meta,
@@ -224,14 +231,15 @@ impl ModelMeta {
 
     /// Reads the sidecar `<dir>/<name>.meta.json`, the trees `<dir>/<name>.json` (with
     /// `load_trees`) and the training domain `<dir>/<name>.domain.json`, and checks that the
-    /// sidecar, the trees' `(features, outputs, feature names)` as `shape` tells them, the
-    /// domain's feature count and mapping `name`'s current definition agree. Trees that store
-    /// no feature names are checked by their counts alone.
+    /// sidecar, the trees' `(features, outputs, feature names, tree count)` as `shape` tells
+    /// them, the domain's feature count and mapping `name`'s current definition agree, then
+    /// the whole bundle ([`crate::models::bundle::check`]). Trees that store no feature names
+    /// are checked by their counts alone.
     pub(crate) fn load_with<T>(
         dir: &Path,
         name: &str,
         load_trees: impl FnOnce(&Path) -> Result<T>,
-        shape: impl FnOnce(&T) -> (usize, usize, Vec<String>),
+        shape: impl FnOnce(&T) -> (usize, usize, Vec<String>, Option<usize>),
     ) -> Result<(Self, T, TrainingDomain)> {
         let mapping = Mapping::by_name(name)?;
         let paths = ModelPaths::new(dir, name);
@@ -239,7 +247,7 @@ impl ModelMeta {
         let meta: ModelMeta = files::read_json(meta_path)?;
         let trees = load_trees(trees_path)?;
         let domain: TrainingDomain = files::read_json(&paths.domain)?;
-        let (n_features, n_outputs, tree_features) = shape(&trees);
+        let (n_features, n_outputs, tree_features, n_trees) = shape(&trees);
         let mismatch = |detail: String| SurrogateError::FeatureMismatch {
             detail,
             expected: mapping.features.iter().map(|&s| s.to_owned()).collect(),
@@ -298,6 +306,12 @@ impl ModelMeta {
                 meta.features.len()
             )));
         }
+        crate::models::bundle::check(&meta, n_trees, &domain).map_err(|detail| {
+            SurrogateError::InconsistentModel {
+                model: dir.join(name).display().to_string(),
+                detail,
+            }
+        })?;
         Ok((meta, trees, domain))
     }
 }

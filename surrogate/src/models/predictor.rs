@@ -29,7 +29,12 @@ impl Predictor {
         let read_trees =
             |path: &Path| Forest::from_json(&files::read(path)?, &path.display().to_string());
         let (meta, forest, domain) = ModelMeta::load_with(dir, name, read_trees, |f| {
-            (f.n_features(), f.n_outputs(), f.feature_names().to_vec())
+            (
+                f.n_features(),
+                f.n_outputs(),
+                f.feature_names().to_vec(),
+                Some(f.n_trees()),
+            )
         })?;
         Ok(Predictor {
             meta,

@@ -101,12 +101,41 @@ impl LocalRheology {
                  the jamming law (eq 6.7) does not describe them"
             )));
         }
-        Ok(LocalRheology {
+        let law = LocalRheology {
             mu_prefactor,
             mu_exponent,
             phi_j: intercept,
             alpha: 1.0 / (slope * slope),
-        })
+        };
+        law.check().map_err(|m| {
+            SurrogateError::InvalidArgument(format!("{m}: eq 6.7 does not describe these rows"))
+        })?;
+        Ok(law)
+    }
+
+    /// `Err(what is wrong)` unless the law is one of a flowing suspension: `A > 0`, `b` in
+    /// the searched `[B_MIN, B_MAX]`, `0 < phi_J <= PHI_LOC_MAX` (no packing is denser) and
+    /// `alpha > 0`, all finite.
+    pub fn check(&self) -> std::result::Result<(), String> {
+        let LocalRheology {
+            mu_prefactor,
+            mu_exponent,
+            phi_j,
+            alpha,
+        } = *self;
+        let max = crate::data::physical_range::PHI_LOC_MAX;
+        let problem = if !(mu_prefactor.is_finite() && mu_prefactor > 0.0) {
+            format!("flow-curve prefactor A = {mu_prefactor}, not positive")
+        } else if !(B_MIN..=B_MAX).contains(&mu_exponent) {
+            format!("flow-curve exponent b = {mu_exponent}, outside [{B_MIN}, {B_MAX}]")
+        } else if !(phi_j > 0.0 && phi_j <= max) {
+            format!("phi_J = {phi_j} (eq 6.7), outside (0, {max}]")
+        } else if !(alpha.is_finite() && alpha > 0.0) {
+            format!("alpha = {alpha} (eq 6.7), not positive")
+        } else {
+            return Ok(());
+        };
+        Err(format!("the local-rheology backbone has {problem}"))
     }
 
     /// `mu(J) = A J^b` (0 for `J <= 0`).
@@ -174,6 +203,51 @@ mod tests {
             (fit.alpha, truth.alpha),
         ] {
             assert!((got - want).abs() < 1e-4 * want, "{fit:?}");
+        }
+    }
+
+    #[test]
+    fn impossible_laws_are_named() {
+        let good = LocalRheology {
+            mu_prefactor: 2.6,
+            mu_exponent: 0.38,
+            phi_j: 0.65,
+            alpha: 4.5,
+        };
+        assert!(good.check().is_ok());
+        for (law, expected) in [
+            (
+                LocalRheology {
+                    phi_j: -5.0,
+                    ..good
+                },
+                "phi_J = -5",
+            ),
+            (LocalRheology { phi_j: 0.9, ..good }, "phi_J = 0.9"),
+            (
+                LocalRheology {
+                    mu_prefactor: 0.0,
+                    ..good
+                },
+                "prefactor A = 0",
+            ),
+            (
+                LocalRheology {
+                    mu_exponent: 7.0,
+                    ..good
+                },
+                "exponent b = 7",
+            ),
+            (
+                LocalRheology {
+                    alpha: f64::NAN,
+                    ..good
+                },
+                "alpha = NaN",
+            ),
+        ] {
+            let err = law.check().unwrap_err();
+            assert!(err.contains(expected), "{err}");
         }
     }
 

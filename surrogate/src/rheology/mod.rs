@@ -5,7 +5,7 @@
 
 pub mod agreement;
 pub mod backbone;
-pub(crate) mod brent;
+pub mod brent;
 pub mod ensemble;
 pub mod flow_curve_fit;
 pub mod jamming_law;

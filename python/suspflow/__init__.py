@@ -241,13 +241,16 @@ def solve(
     velocities ``u`` (a/time) and one pressure ``P`` (eta/time) that balance the face stress
     ``-sign(gdot) mu P`` against the drag density ``6 pi eta <a>/<V_p> phi_loc (u_inf - u)``
     with ``mean(phi_loc) = phi`` (docs/physics.md section 8), closed by ``closure``:
-    ``"learned"`` (the ``dv`` model in ``models``) or ``"local"`` (the local rheology fitted
-    on ``train``, by default the ``dv`` model's training data). Newton iterations start from
-    ``p_start`` (eta/time). Returns one row per bin with the columns of ``suspflow solve``'s
-    profile.csv (``scene_id``, ``profile``, ``L_y``, ``phi``, ``y``, ``u_inf``, ``u``,
-    ``gdot``, ``sigma_xy``, ``P``, ``phi_loc``, ``J``, ``mu``, ``Delta_v``, ``f_x``);
-    ``attrs`` holds ``iterations``, ``residual`` (largest balance residual in units of the
-    forcing's drag density) and ``pressure``."""
+    ``"learned"`` (the ``dv`` model in ``models``), ``"local"`` (the local rheology fitted
+    on ``train``, by default the ``dv`` model's training data) or ``"nonlocal"`` (the
+    ``theta`` model with the Theta balance fitted on the same data). Newton iterations start
+    from ``p_start`` (eta/time), continued from the local law where they stall. Returns one
+    row per bin with the columns of ``suspflow solve``'s profile.csv (``scene_id``,
+    ``profile``, ``L_y``, ``phi``, ``y``, ``u_inf``, ``u``, ``gdot``, ``sigma_xy``, ``P``,
+    ``phi_loc``, ``J``, ``mu``, ``Theta`` (NaN unless nonlocal), ``Delta_v``, ``f_x``,
+    ``in_domain``, ``domain_distance``); ``attrs`` holds ``iterations``, ``continued``,
+    ``residual`` (largest balance residual in units of the forcing's drag density) and
+    ``pressure``."""
     scene = read_scene(scene)
     s = _native.solve(
         scene, os.fspath(models), closure, None if train is None else os.fspath(train), p_start
@@ -257,5 +260,9 @@ def solve(
     frame = pd.DataFrame({"scene_id": [file["name"]] * n, "profile": [file["fluid"]["profile"]] * n})
     for name, values in s.columns:
         frame[name] = np.asarray(values)
-    frame.attrs.update(iterations=s.iterations, residual=s.residual, pressure=s.pressure)
+    frame["in_domain"] = np.asarray(s.in_domain)
+    frame["domain_distance"] = np.asarray(s.domain_distance)
+    frame.attrs.update(
+        iterations=s.iterations, continued=s.continued, residual=s.residual, pressure=s.pressure
+    )
     return frame

@@ -34,7 +34,10 @@ class Predictions:
 
 class Solution:
     columns: List[Tuple[str, List[float]]]
+    in_domain: List[bool]
+    domain_distance: List[float]
     iterations: int
+    continued: bool
     residual: float
     pressure: float
 

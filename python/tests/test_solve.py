@@ -14,7 +14,7 @@ FLOW = {
 }
 
 
-@pytest.mark.parametrize("closure", ["learned", "local"])
+@pytest.mark.parametrize("closure", ["learned", "local", "nonlocal"])
 def test_solve_matches_the_command(root, run_suspflow, tmp_path, closure):
     scene = tmp_path / "flow.toml"
     scene.write_text(
@@ -24,6 +24,7 @@ def test_solve_matches_the_command(root, run_suspflow, tmp_path, closure):
     )
     run_suspflow("solve", scene, "--closure", closure, "--out", tmp_path / "out")
     written = exact_csv((tmp_path / "out" / "profile.csv").read_text())
+    written["in_domain"] = written["in_domain"] == "true"
     # The local rheology is fitted on the dv model's training data, as the command does.
     solved = suspflow.solve(FLOW, root / "models", closure)
     assert list(solved.columns) == list(written.columns)

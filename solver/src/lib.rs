@@ -11,6 +11,7 @@
 //! by [`fit_local_rheology`]) and returns a [`ProfileSolution`].
 
 pub mod closure;
+pub mod closures;
 pub mod error;
 pub mod local_fit;
 pub mod newton;
@@ -19,6 +20,7 @@ pub mod solution;
 pub mod theta_balance;
 
 pub use closure::{Closure, Descriptor, LearnedClosure, NonlocalClosure, SMOOTHING};
+pub use closures::{ClosureKind, Closures};
 pub use error::{Result, SolverError, Stall};
 pub use local_fit::fit_local_rheology;
 pub use newton::TOLERANCE;

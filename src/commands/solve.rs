@@ -15,108 +15,19 @@ use schema::Observable;
 use serde::Serialize;
 use sim::input::scene::Scene;
 use solver::{
-    fit_local_rheology, Closure, LearnedClosure, NonlocalClosure, ProfileProblem, ProfileSolution,
-    SolverError, ThetaBalance, ThetaBalanceFit,
+    ClosureKind, Closures, ProfileProblem, ProfileSolution, SolverError, ThetaBalanceFit,
 };
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use surrogate::{
-    relative_l2_error, Dataset, DomainCheck, Mapping, Predictor, Samples, TrainingDomain,
-};
+use surrogate::{relative_l2_error, Dataset, DomainCheck};
 
 /// Starting pressure of the Newton iterations (units eta/time; the training scenes have
 /// 0.03-0.2).
 const START_PRESSURE: f64 = 0.1;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ClosureKind {
-    /// The trained `dv` mapping, (J, Delta_v, phi) -> (phi_loc, mu).
-    Learned,
-    /// mu = A J^b and phi_loc by eq 6.7, fitted on the training data.
-    Local,
-    /// The trained `theta` mapping, (J, Theta, phi) -> (phi_loc, mu), with Theta from its
-    /// balance l^2 Theta'' = Theta - c J^beta fitted on the training data.
-    Nonlocal,
-}
-
-impl ClosureKind {
-    const ALL: [ClosureKind; 3] = [
-        ClosureKind::Learned,
-        ClosureKind::Local,
-        ClosureKind::Nonlocal,
-    ];
-
-    fn name(self) -> &'static str {
-        match self {
-            ClosureKind::Learned => "learned",
-            ClosureKind::Local => "local",
-            ClosureKind::Nonlocal => "nonlocal",
-        }
-    }
-}
-
-/// The three closures, built from the models and their training data.
-struct Closures {
-    learned: LearnedClosure,
-    local: surrogate::LocalRheology,
-    nonlocal: NonlocalClosure,
-    theta_fit: ThetaBalanceFit,
-    /// Each closure's training domain and its features, in the order of
-    /// [`ClosureKind::ALL`].
-    domains: Vec<(TrainingDomain, Vec<String>)>,
-}
-
-impl Closures {
-    fn load(models: &Path, train: Option<&Path>) -> anyhow::Result<Self> {
-        let load = |name: &str| {
-            Predictor::load(models, name)
-                .with_context(|| format!("loading model `{name}` from {}", models.display()))
-        };
-        let dv = load("dv")?;
-        let train = train
-            .map(Path::to_path_buf)
-            .unwrap_or_else(|| PathBuf::from(&dv.meta().training_data.source));
-        let train_data = Dataset::read_csv(&train)
-            .with_context(|| format!("reading the training data {}", train.display()))?;
-        let theta_fit = ThetaBalance::fit(&train_data)?;
-        let theta = load("theta")?;
-        let dv_features = dv.meta().features.clone();
-        // The local law is fitted on the training rows: its domain is theirs.
-        let local_domain = TrainingDomain::fit(&Samples::from_dataset(
-            &train_data,
-            Mapping::by_name("dv")?,
-        )?)?;
-        let domains = vec![
-            (dv.domain().clone(), dv_features.clone()),
-            (local_domain, dv_features),
-            (theta.domain().clone(), theta.meta().features.clone()),
-        ];
-        Ok(Closures {
-            learned: LearnedClosure::new(dv)?,
-            local: fit_local_rheology(&train_data)?,
-            nonlocal: NonlocalClosure::new(theta, theta_fit.balance)?,
-            theta_fit,
-            domains,
-        })
-    }
-
-    fn domain(&self, kind: ClosureKind) -> (&TrainingDomain, &[String]) {
-        let (domain, features) = match kind {
-            ClosureKind::Learned => &self.domains[0],
-            ClosureKind::Local => &self.domains[1],
-            ClosureKind::Nonlocal => &self.domains[2],
-        };
-        (domain, features)
-    }
-
-    fn get(&self, kind: ClosureKind) -> &dyn Closure {
-        match kind {
-            ClosureKind::Learned => &self.learned,
-            ClosureKind::Local => &self.local,
-            ClosureKind::Nonlocal => &self.nonlocal,
-        }
-    }
+/// `--closure NAME`: one of the solver's closures.
+fn parse_closure(name: &str) -> Result<ClosureKind, String> {
+    ClosureKind::from_name(name).map_err(|e| e.to_string())
 }
 
 #[derive(clap::Args)]
@@ -126,8 +37,10 @@ pub struct Args {
     /// Directory of the trained models (reads the `dv` and `theta` mappings).
     #[arg(long, default_value = "models")]
     models: PathBuf,
-    /// Closure of the momentum balance.
-    #[arg(long, value_enum, default_value_t = ClosureKind::Learned)]
+    /// Closure of the momentum balance: learned (the `dv` mapping), local (mu = A J^b and
+    /// eq 6.7, fitted on the training data) or nonlocal (the `theta` mapping with the Theta
+    /// balance l^2 Theta'' = Theta - c J^beta).
+    #[arg(long, default_value = "learned", value_parser = parse_closure)]
     closure: ClosureKind,
     /// Training dataset the local rheology and the Theta balance are fitted on (default: the
     /// `dv` model's own).
@@ -148,7 +61,7 @@ pub struct Args {
 #[derive(Serialize)]
 struct Summary<'a> {
     scene: &'a str,
-    closure: ClosureKind,
+    closure: &'static str,
     /// The Theta balance the nonlocal closure solves (fitted whatever the closure).
     theta_balance: ThetaBalanceFit,
     bins: usize,
@@ -180,7 +93,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "an earlier solution",
         "choose another --out",
     )?;
-    let closures = Closures::load(&args.models, args.train.as_deref())?;
+    let closures = Closures::load(&args.models, args.train.as_deref()).with_context(|| {
+        format!(
+            "loading the closures from {} and their training data",
+            args.models.display()
+        )
+    })?;
     let started = Instant::now();
     let solution = problem
         .solve(
@@ -199,13 +117,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let wall_ms = started.elapsed().as_secs_f64() * 1e3;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    let (domain, features) = closures.domain(args.closure);
-    let checks = domain_checks(domain, features, scene.file.particles.phi, &solution)?;
+    let checks = closures.domain_checks(args.closure, scene.file.particles.phi, &solution)?;
     write_profile(&profile_csv, &scene, &problem, &solution, &checks)?;
     let outside = checks.iter().filter(|c| !c.inside()).count();
     let summary = Summary {
         scene: &scene.file.name,
-        closure: args.closure,
+        closure: args.closure.name(),
         theta_balance: closures.theta_fit,
         bins: problem.n_bins(),
         iterations: solution.iterations,
@@ -276,30 +193,6 @@ fn with_hint(e: SolverError, closure: ClosureKind) -> anyhow::Error {
         }
         e => e.into(),
     }
-}
-
-/// Where each solved bin lies relative to the closure's training rows, in the closure's
-/// features (`features`, their order): J and Delta_v or Theta of the solution, the scene's phi.
-/// The learned closures' domains are their models' own; the local closure's is fitted on
-/// its training file (the law is fitted on those rows).
-fn domain_checks(
-    domain: &TrainingDomain,
-    features: &[String],
-    phi: f64,
-    s: &ProfileSolution,
-) -> anyhow::Result<Vec<DomainCheck>> {
-    let columns = features
-        .iter()
-        .map(
-            |name| match Observable::from_name(name).and_then(|o| s.column(o)) {
-                Some(values) => Ok(values.to_vec()),
-                None if name == col::PHI => Ok(vec![phi; s.j.len()]),
-                None => bail!("a solve gives no `{name}` per bin for the training-domain check"),
-            },
-        )
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    let rows = Array2::from_shape_fn((s.j.len(), columns.len()), |(k, f)| columns[f][k]);
-    Ok(domain.check(rows.view())?)
 }
 
 /// Writes the solution with the dataset's column names and the bins' training-domain check

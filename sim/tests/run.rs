@@ -21,6 +21,20 @@ fn tiny() -> Scene {
     test_scene("tiny.toml")
 }
 
+/// A fresh temporary directory named `name` (plus the process id) and the options of a
+/// run that checkpoints there, resumes from it, and stops when `interrupt` is raised.
+fn resumable(name: &str, interrupt: Option<&'static AtomicBool>) -> (PathBuf, RunOptions<'static>) {
+    let dir = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let opts = RunOptions {
+        checkpoint: Some(dir.join("checkpoint.json")),
+        resume: true,
+        interrupt,
+        ..RunOptions::default()
+    };
+    (dir, opts)
+}
+
 fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -122,14 +136,7 @@ fn brownian_runs_resume_identically() {
 fn a_checkpoint_of_another_scene_is_refused() {
     static STOP: AtomicBool = AtomicBool::new(false);
     let scene = tiny();
-    let dir = std::env::temp_dir().join(format!("suspflow-other-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let opts = RunOptions {
-        checkpoint: Some(dir.join("checkpoint.json")),
-        resume: true,
-        interrupt: Some(&STOP),
-        ..RunOptions::default()
-    };
+    let (dir, opts) = resumable("suspflow-other", Some(&STOP));
     assert!(matches!(
         rows(&scene, &opts, Some((2, &STOP))),
         Err(SimError::Interrupted { .. })
@@ -223,14 +230,7 @@ fn a_damaged_checkpoint_is_refused_saying_what_is_wrong() {
 #[test]
 fn resuming_over_the_finished_run_of_another_scene_is_refused() {
     let scene = tiny();
-    let dir = std::env::temp_dir().join(format!("suspflow-finished-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let opts = RunOptions {
-        checkpoint: Some(dir.join("checkpoint.json")),
-        resume: true,
-        interrupt: None,
-        ..RunOptions::default()
-    };
+    let (dir, opts) = resumable("suspflow-finished", None);
     let outcome = run(&scene, &opts, &mut |_, _| {}).unwrap();
     sim::output::result_files::write_results(&dir, &scene, &outcome).unwrap();
     std::fs::remove_file(dir.join("checkpoint.json")).ok();
@@ -333,14 +333,7 @@ fn ctrl_c_inside_a_long_sample_interval_stops_there_and_resumes_identically() {
         steps_per_sample > 1000,
         "{steps_per_sample} steps per sample"
     );
-    let dir = std::env::temp_dir().join(format!("suspflow-midsample-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let opts = RunOptions {
-        checkpoint: Some(dir.join("checkpoint.json")),
-        resume: true,
-        interrupt: Some(&STOP),
-        ..RunOptions::default()
-    };
+    let (dir, opts) = resumable("suspflow-midsample", Some(&STOP));
     on_threads(1, || {
         let plain = rows(&scene, &RunOptions::default(), None).unwrap();
         // A flag set before the run stops its packing, with nothing to resume: stop at the
@@ -479,14 +472,7 @@ fn stress_parts_add_up_and_the_brownian_part_needs_kt() {
 #[test]
 fn an_interrupt_during_the_packing_saves_nothing_and_says_so() {
     static STOP: AtomicBool = AtomicBool::new(true);
-    let dir = std::env::temp_dir().join(format!("suspflow-packing-stop-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let opts = RunOptions {
-        checkpoint: Some(dir.join("checkpoint.json")),
-        resume: true,
-        interrupt: Some(&STOP),
-        ..RunOptions::default()
-    };
+    let (dir, opts) = resumable("suspflow-packing-stop", Some(&STOP));
     match rows(&tiny(), &opts, None) {
         Err(e @ SimError::InterruptedPacking) => {
             assert!(e.to_string().contains("nothing to save"), "{e}")

@@ -54,8 +54,9 @@ fn part_sum(s: &[f64], nb: usize, k: usize, source: Source) -> f64 {
     }
 }
 
-/// Every part in every bin, then every part over the box, of summed snapshots `s` (`n`
-/// snapshots): `STRESS_PARTS.len() * (n_bins + 1)` numbers.
+/// For each part of [`STRESS_PARTS`] in turn, its box total and then its value in every
+/// bin, of summed snapshots `s` (`n` snapshots): `STRESS_PARTS.len() * (n_bins + 1)`
+/// numbers.
 fn values(ctx: &BinningContext, s: &[f64], n: usize) -> Vec<f64> {
     let nb = ctx.bins.count;
     let norm = 1.0 / (n as f64 * ctx.bin_volume);

@@ -150,11 +150,12 @@ fn accumulate(sim: &Simulation, bins: &Bins, local_du: &[f64], out: &mut [f64]) 
             };
             let s = o.load.stresslet(&o.r);
             let contact = -o.contact_force * o.r.transpose();
-            let d = o.r.norm();
-            let brownian = (sim.field.kt > 0.0)
-                .then(|| brownian_shell::weight(sim.field.kt, p.radius[i], p.radius[j], d))
-                .flatten()
-                .map(|w| w * o.n * o.n.transpose());
+            let brownian = if sim.field.kt > 0.0 {
+                brownian_shell::weight(sim.field.kt, p.radius[i], p.radius[j], o.r.norm())
+                    .map(|w| w * o.n * o.n.transpose())
+            } else {
+                None
+            };
             let y_i = p.pos[i].y;
             bins.share_segment(y_i, o.r.y, |k, frac| {
                 add_tensor(out, nb, SXX, k, frac, &s);

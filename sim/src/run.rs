@@ -12,7 +12,7 @@ use crate::output::run_summary::{RunOutcome, RunSummary};
 use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::block_sums::BlockSums;
 use crate::sampling::shear_rheology::ShearRheology;
-use crate::sampling::snapshot::{self, Sampler};
+use crate::sampling::snapshot::{self, Sampler, StepPairSums};
 use crate::sampling::steady_state::SteadyState;
 use crate::sampling::stress_checks::stress_checks;
 use crate::sampling::stress_parts::StressParts;
@@ -99,6 +99,9 @@ struct RunState {
     /// written on an interrupt inside a sample interval).
     #[serde(default)]
     steps_into_sample: u64,
+    /// The pair sums of those steps (Brownian scenes, implicit step).
+    #[serde(default)]
+    step_pairs: StepPairSums,
 }
 
 /// Everything a resumed run needs, written at checkpoints.
@@ -145,6 +148,7 @@ fn fresh_state(scene: &Scene) -> RunState {
         overlap_max: 0.0,
         wall_s: 0.0,
         steps_into_sample: 0,
+        step_pairs: StepPairSums::default(),
     }
 }
 
@@ -353,7 +357,12 @@ pub fn run(
     loop {
         while st.steps_into_sample < steps_per_sample {
             let chunk = (steps_per_sample - st.steps_into_sample).min(INTERRUPT_POLL_STEPS);
-            sim.advance(chunk)?;
+            if sim.samples_midpoints() {
+                let pairs = &mut st.step_pairs;
+                sim.advance_observed(chunk, &mut |s| sampler.add_step_pairs(s, pairs))?;
+            } else {
+                sim.advance(chunk)?;
+            }
             st.steps_into_sample += chunk;
             if st.steps_into_sample < steps_per_sample && interrupt_requested() {
                 if let Some(path) = &opts.checkpoint {
@@ -367,7 +376,7 @@ pub fn run(
         let strain = gdot * sim.time;
         let t = sim.timers.start();
         sums_scratch.iter_mut().for_each(|x| *x = 0.0);
-        sampler.accumulate(&sim, &mut sums_scratch);
+        sampler.accumulate(&sim, &mut st.step_pairs, &mut sums_scratch);
         let block = match st.phase {
             Phase::Equilibrating => &mut st.steady.window,
             Phase::Averaging => &mut st.averaging,

@@ -8,7 +8,7 @@ use crate::output::run_summary::RunSummary;
 use crate::run::{Phase, RunOptions};
 use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::block_sums::BlockSums;
-use crate::sampling::snapshot::{field::FIELDS, Sampler};
+use crate::sampling::snapshot::{field::FIELDS, Sampler, StepPairSums};
 use crate::SimError;
 use std::time::Instant;
 
@@ -104,7 +104,7 @@ pub fn sample(scene: &Scene, partial: usize, reference: usize) -> Result<Sampled
         }
         seen = p.snapshots;
         let mut sums = vec![0.0; FIELDS * nb];
-        sampler.accumulate(s, &mut sums);
+        sampler.accumulate(s, &mut StepPairSums::default(), &mut sums);
         if snaps.len() < partial {
             snaps.push(sums);
             walls.push(started.elapsed().as_secs_f64());

@@ -6,6 +6,11 @@
 //! markdown summary; with `--local DATA.csv`, the local `mu / J` of the sheared bins of an
 //! inhomogeneous-flow dataset against the homogeneous curve at the same volume fraction.
 //!
+//! Grids over the Peclet number (`fluid.peclet`, Brownian scenes, docs/physics.md section
+//! 11) and the friction coefficient are fitted per state `(mu_p, Pe)`, and each volume
+//! fraction gets a figure of `eta_r(Pe)` with the parts of the stress (contact,
+//! lubrication, and the structural Brownian stress beside them).
+//!
 //! Two stress conventions are fitted: the box's pair stresslets (contact and lubrication,
 //! as the thesis' LAMMPS runs report), and the bins' `sigma_xy` under the scene's
 //! `[observables] stress` convention (the same pair stresslets by default; with the
@@ -17,6 +22,7 @@ use crate::scene_work::{Recorded, SceneStatus, SceneWork};
 use anyhow::{bail, Context};
 use sim::input::grid::Grid;
 use sim::output::atomic_write::write_atomic;
+use sim::sampling::block_sums::Estimate;
 use sim::sampling::shear_rheology::ShearRheology;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -57,6 +63,42 @@ struct ShearSummary {
     strain_to_steady: f64,
     mean_overlap: f64,
     shear: Option<ShearRheology>,
+    /// Box totals of the stress parts (`schema::columns::STRESS_PARTS`).
+    #[serde(default)]
+    stress_parts: BTreeMap<String, Estimate>,
+}
+
+/// The parts of `eta_r` a table and figure show: name in `flow_curves.csv`, legend, and
+/// the stress part (`schema::columns::STRESS_PARTS`) it is `-sigma_xy / (eta gdot)` of.
+/// `contact + lubrication` is the box's `eta_r`; the drag stresslet (the isolated spheres'
+/// `2.5 phi`) and the structural Brownian stress are reported beside them.
+const PARTS: [(&str, &str, &str); 4] = [
+    ("eta_r_contact", "contact", "sigma_xy_contact"),
+    (
+        "eta_r_hydrodynamic",
+        "hydrodynamic (lubrication)",
+        "sigma_xy_lubrication",
+    ),
+    ("eta_r_drag", "one-body drag", "sigma_xy_drag"),
+    ("eta_r_brownian", "structural Brownian", "sigma_xy_brownian"),
+];
+
+/// A state of the flow curves: friction coefficient and Peclet number (infinite without
+/// Brownian forces).
+#[derive(Clone, Copy, PartialEq, PartialOrd)]
+struct State {
+    mu_p: f64,
+    peclet: f64,
+}
+
+impl State {
+    fn label(&self) -> String {
+        if self.peclet.is_finite() {
+            format!("mu_p = {}, Pe = {:.3e}", self.mu_p, self.peclet)
+        } else {
+            format!("mu_p = {}, non-Brownian", self.mu_p)
+        }
+    }
 }
 
 /// One finished scene.
@@ -70,16 +112,35 @@ struct FlowPoint {
     /// `eta_r` of the bins' `sigma_xy` (the scene's stress convention): mean over the bins of
     /// `-sigma_xy / (eta gdot)`, with its standard error.
     eta_r_bins: (f64, f64),
+    state: State,
+    /// Thermal energy (0 without Brownian forces).
+    kt: f64,
+    /// The [`PARTS`] of `eta_r`, `(mean, standard error)`, NaN where the run has none.
+    parts: [(f64, f64); 4],
+}
+
+impl FlowPoint {
+    /// `eta_r` with the structural Brownian stress added (the seeds' low-Pe fit adds a
+    /// Brownian viscosity to the hydrodynamic one).
+    fn eta_r_with_brownian(&self) -> (f64, f64) {
+        let (b, b_se) = self.parts[3];
+        let e = self.rheology.eta_r;
+        (e.mean + b, e.se.hypot(b_se))
+    }
 }
 
 /// The two stress conventions: name, and `(eta_r, standard error)` of a point.
 type Convention = (&'static str, fn(&FlowPoint) -> (f64, f64));
 
-const CONVENTIONS: [Convention; 2] = [
+const CONVENTIONS: [Convention; 3] = [
     ("pair stresslets (box)", |p| {
         (p.rheology.eta_r.mean, p.rheology.eta_r.se)
     }),
     ("bins, scene's stress convention", |p| p.eta_r_bins),
+    (
+        "pair stresslets + structural Brownian",
+        FlowPoint::eta_r_with_brownian,
+    ),
 ];
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -117,10 +178,24 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let rheology = summary
             .shear
             .with_context(|| format!("{}: no `shear` box totals", path.display()))?;
-        let eta_r_bins = bin_viscosity(
-            &Dataset::read_csv(work.profile_csv())?,
-            gs.scene.file.fluid.eta * gdot,
-        )?;
+        let eta_gdot = gs.scene.file.fluid.eta * gdot;
+        let eta_r_bins = bin_viscosity(&Dataset::read_csv(work.profile_csv())?, eta_gdot)?;
+        let parts = PARTS.map(|(_, _, part)| {
+            summary
+                .stress_parts
+                .get(part)
+                .map_or((f64::NAN, f64::NAN), |e| {
+                    (-e.mean / eta_gdot, e.se / eta_gdot)
+                })
+        });
+        let state = State {
+            mu_p: gs.scene.file.forces.mu_p,
+            peclet: gs
+                .scene
+                .thermal
+                .and_then(|t| t.peclet)
+                .unwrap_or(f64::INFINITY),
+        };
         points.push(FlowPoint {
             id: gs.id.clone(),
             phi: gs.scene.file.particles.phi,
@@ -128,6 +203,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             summary,
             rheology,
             eta_r_bins,
+            state,
+            kt: gs.scene.file.fluid.kt,
+            parts,
         });
     }
     if !missing.is_empty() {
@@ -141,16 +219,33 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             missing.join(", ")
         );
     }
-    let fits: Vec<SeededJammingFit> = CONVENTIONS
+    let states = states(&points);
+    let fits: Vec<StateFits> = states
         .iter()
-        .map(|(_, value)| fit(&points, *value))
-        .collect::<anyhow::Result<_>>()?;
+        .map(|&state| {
+            let sel: Vec<&FlowPoint> = points.iter().filter(|p| p.state == state).collect();
+            StateFits {
+                state,
+                fits: CONVENTIONS
+                    .iter()
+                    .map(|(_, value)| fit(&sel, *value))
+                    .collect(),
+            }
+        })
+        .collect();
     let local = match &args.local {
         Some(path) => Some(local_viscosity::bands(path, &LOCAL_BANDS)?),
         None => None,
     };
-    let written =
-        ["README.md", "flow_curves.csv", "eta_r.svg", "mu_J.svg"].map(|f| args.out.join(f));
+    let phis = volume_fractions(&points);
+    let brownian = points.iter().any(|p| p.state.peclet.is_finite());
+    let mut written: Vec<PathBuf> = ["README.md", "flow_curves.csv", "eta_r.svg", "mu_J.svg"]
+        .iter()
+        .map(|f| args.out.join(f))
+        .collect();
+    if brownian {
+        written.extend(phis.iter().map(|&phi| args.out.join(peclet_figure(phi))));
+    }
     crate::output_guard::refuse_any_unless_force(
         &written,
         args.force,
@@ -160,13 +255,128 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     write_table(&args.out.join("flow_curves.csv"), &points)?;
-    draw_figures(&args.out, &points, &fits[0].all)?;
+    let first_fit = fits
+        .iter()
+        .find_map(|f| f.fits[0].as_ref().ok())
+        .map(|f| f.all);
+    draw_figures(&args.out, &points, first_fit.as_ref())?;
+    if brownian {
+        for &phi in &phis {
+            draw_peclet_figure(&args.out.join(peclet_figure(phi)), phi, &points)?;
+        }
+    }
     let text = summary_text(&args, &points, &fits, local.as_deref());
     let readme = args.out.join("README.md");
     write_atomic(&readme, text.as_bytes())?;
     print!("{text}");
     eprintln!("wrote {}", args.out.display());
     Ok(())
+}
+
+/// The jamming law of one state under each of the [`CONVENTIONS`] (an error where its
+/// points cannot be fitted, e.g. fewer than three volume fractions).
+struct StateFits {
+    state: State,
+    fits: Vec<surrogate::Result<SeededJammingFit>>,
+}
+
+/// The distinct states of `points`, ordered by friction, then Peclet number.
+fn states(points: &[FlowPoint]) -> Vec<State> {
+    let mut states: Vec<State> = Vec::new();
+    for p in points {
+        if !states.contains(&p.state) {
+            states.push(p.state);
+        }
+    }
+    states.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    states
+}
+
+/// The grid's distinct volume fractions, ascending.
+fn volume_fractions(points: &[FlowPoint]) -> Vec<f64> {
+    let mut phis: Vec<f64> = points.iter().map(|p| p.phi).collect();
+    phis.sort_by(f64::total_cmp);
+    phis.dedup();
+    phis
+}
+
+/// File name of the `eta_r(Pe)` figure at volume fraction `phi`.
+fn peclet_figure(phi: f64) -> String {
+    format!("eta_r_Pe_phi{phi:.3}.svg")
+}
+
+/// Mean over seeds, with the standard error of that mean from their spread (from the
+/// single run's own error when there is one seed), of `value` at each Peclet number of
+/// the points `sel`: `(Pe, mean, standard error)`, ascending in Pe, non-finite left out.
+fn over_seeds(
+    sel: &[&FlowPoint],
+    value: impl Fn(&FlowPoint) -> (f64, f64),
+) -> Vec<(f64, f64, f64)> {
+    let mut by_pe: Vec<(f64, Vec<(f64, f64)>)> = Vec::new();
+    for p in sel {
+        let v = value(p);
+        match by_pe.iter_mut().find(|(pe, _)| *pe == p.state.peclet) {
+            Some((_, vs)) => vs.push(v),
+            None => by_pe.push((p.state.peclet, vec![v])),
+        }
+    }
+    by_pe.sort_by(|a, b| a.0.total_cmp(&b.0));
+    by_pe
+        .into_iter()
+        .filter(|(pe, _)| pe.is_finite())
+        .map(|(pe, vs)| {
+            let (m, se) = if vs.len() == 1 {
+                vs[0]
+            } else {
+                mean_and_standard_error(&vs.iter().map(|v| v.0).collect::<Vec<_>>())
+            };
+            (pe, m, se)
+        })
+        .filter(|(_, m, se)| m.is_finite() && se.is_finite())
+        .collect()
+}
+
+/// `eta_r(Pe)` at volume fraction `phi`: the total (pair stresslets) for each friction
+/// coefficient, and the [`PARTS`] of the frictionless (or least frictional) runs; log-log,
+/// non-positive values (a negative part) left out.
+fn draw_peclet_figure(path: &Path, phi: f64, points: &[FlowPoint]) -> anyhow::Result<()> {
+    let at_phi: Vec<&FlowPoint> = points.iter().filter(|p| p.phi == phi).collect();
+    let mut frictions: Vec<f64> = at_phi.iter().map(|p| p.state.mu_p).collect();
+    frictions.sort_by(f64::total_cmp);
+    frictions.dedup();
+    let mut series = Vec::new();
+    for &mu_p in &frictions {
+        let sel: Vec<&FlowPoint> = at_phi
+            .iter()
+            .copied()
+            .filter(|p| p.state.mu_p == mu_p)
+            .collect();
+        series.push(Points {
+            name: format!("eta_r (contact + lubrication), mu_p = {mu_p}"),
+            points: over_seeds(&sel, |p| (p.rheology.eta_r.mean, p.rheology.eta_r.se)),
+        });
+    }
+    if let Some(&mu_p) = frictions.first() {
+        let sel: Vec<&FlowPoint> = at_phi
+            .iter()
+            .copied()
+            .filter(|p| p.state.mu_p == mu_p)
+            .collect();
+        for (q, (_, legend, _)) in PARTS.iter().enumerate() {
+            series.push(Points {
+                name: format!("{legend}, mu_p = {mu_p}"),
+                points: over_seeds(&sel, |p| p.parts[q]),
+            });
+        }
+    }
+    data_and_laws::draw(
+        path,
+        &format!("Homogeneous shear at phi = {phi}: eta_r against the Peclet number"),
+        ("Pe", "eta_r"),
+        true,
+        &series,
+        &[],
+    )
 }
 
 /// The points of each seed, in grid order.
@@ -192,9 +402,9 @@ fn per_seed(points: &[FlowPoint], value: fn(&FlowPoint) -> (f64, f64, f64)) -> V
 /// The jamming law fitted to every point and to each seed's points, with `eta_r` from
 /// `value`.
 fn fit(
-    points: &[FlowPoint],
+    points: &[&FlowPoint],
     value: fn(&FlowPoint) -> (f64, f64),
-) -> anyhow::Result<SeededJammingFit> {
+) -> surrogate::Result<SeededJammingFit> {
     let points: Vec<FlowCurvePoint> = points
         .iter()
         .map(|p| FlowCurvePoint {
@@ -203,31 +413,44 @@ fn fit(
             eta_r: value(p).0,
         })
         .collect();
-    Ok(SeededJammingFit::fit(&points)?)
+    SeededJammingFit::fit(&points)
 }
 
 fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
     let mut out = String::from(
-        "scene_id,seed,n_particles,phi_actual,strain_to_steady,mean_overlap,shear_rate,\
-         sigma_xy,sigma_xy_se,P,P_se,eta_r,eta_r_se,mu,mu_se,J,J_se,eta_r_bins,eta_r_bins_se\n",
+        "scene_id,phi,peclet,mu_p,seed,n_particles,phi_actual,strain_to_steady,mean_overlap,\
+         shear_rate,kT,sigma_xy,sigma_xy_se,P,P_se,eta_r,eta_r_se,mu,mu_se,J,J_se,\
+         eta_r_bins,eta_r_bins_se",
     );
+    for (name, _, _) in PARTS {
+        let _ = write!(out, ",{name},{name}_se");
+    }
+    out.push('\n');
     for p in points {
         let r = &p.rheology;
         let _ = write!(
             out,
-            "{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{}",
             p.id,
+            p.phi,
+            p.state.peclet,
+            p.state.mu_p,
             p.seed,
             p.summary.n_particles,
             p.summary.phi_actual,
             p.summary.strain_to_steady,
             p.summary.mean_overlap,
-            r.shear_rate
+            r.shear_rate,
+            p.kt
         );
         for e in [r.sigma_xy, r.p, r.eta_r, r.mu, r.j] {
             let _ = write!(out, ",{},{}", e.mean, e.se);
         }
-        let _ = writeln!(out, ",{},{}", p.eta_r_bins.0, p.eta_r_bins.1);
+        let _ = write!(out, ",{},{}", p.eta_r_bins.0, p.eta_r_bins.1);
+        for (m, se) in p.parts {
+            let _ = write!(out, ",{m},{se}");
+        }
+        out.push('\n');
     }
     Ok(write_atomic(path, out.as_bytes())?)
 }
@@ -235,23 +458,27 @@ fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
 /// `eta_r(phi)` and `mu(J)`, one marker colour per seed, beside the seeds' law and the fit
 /// (box convention). In the `mu(J)` plane a law is drawn at each measured point's `J` as
 /// `mu = J eta_r(phi)`, since `eta_r = mu / J`.
-fn draw_figures(out: &Path, points: &[FlowPoint], fitted: &JammingLaw) -> anyhow::Result<()> {
-    let laws = [
-        (
-            format!(
-                "seeds' law, phi_J = {}, lambda = {}",
-                SEEDS_LAW.phi_j, SEEDS_LAW.lambda
-            ),
-            SEEDS_LAW,
+fn draw_figures(
+    out: &Path,
+    points: &[FlowPoint],
+    fitted: Option<&JammingLaw>,
+) -> anyhow::Result<()> {
+    let mut laws = vec![(
+        format!(
+            "seeds' law, phi_J = {}, lambda = {}",
+            SEEDS_LAW.phi_j, SEEDS_LAW.lambda
         ),
-        (
+        SEEDS_LAW,
+    )];
+    if let Some(fitted) = fitted {
+        laws.push((
             format!(
                 "fit, phi_J = {:.3}, lambda = {:.2}",
                 fitted.phi_j, fitted.lambda
             ),
             *fitted,
-        ),
-    ];
+        ));
+    }
     let eta_points = per_seed(points, |p| {
         (
             p.summary.phi_actual,
@@ -306,14 +533,14 @@ fn draw_figures(out: &Path, points: &[FlowPoint], fitted: &JammingLaw) -> anyhow
 fn summary_text(
     args: &Args,
     points: &[FlowPoint],
-    fits: &[SeededJammingFit],
+    fits: &[StateFits],
     local: Option<&[LocalBand]>,
 ) -> String {
     let mut s = String::from("# Flow curves of homogeneous simple shear\n\n");
     let _ = writeln!(
         s,
-        "Frictionless bidisperse spheres sheared between Lees-Edwards images \
-         (docs/physics.md section 10), {} scenes of `{}`. Produced by\n\n```\n\
+        "Bidisperse spheres sheared between Lees-Edwards images \
+         (docs/physics.md sections 10 and 11), {} runs of `{}`. Produced by\n\n```\n\
          suspflow generate {} --out {}/bins.csv --work {} --jobs 2 --threads 1\n\
          suspflow flow-curves {} --runs {}{} --out {}\n```\n",
         points.len(),
@@ -329,54 +556,76 @@ fn summary_text(
         args.out.display()
     );
     s.push_str(
-        "Per volume fraction, the mean over seeds (standard error from their spread); `eta_r` \
-         of the pair stresslets over the box, and of the bins' `sigma_xy` (with the drag \
-         stresslet, as in the datasets):\n\n\
-         | phi | seeds | eta_r (pairs) | eta_r (bins) | seeds' law | pairs / law | mu | J |\n\
-         |---|---|---|---|---|---|---|---|\n",
+        "Per state and volume fraction, the mean over seeds (standard error from their \
+         spread); `eta_r` of the pair stresslets over the box (contact + hydrodynamic, i.e. \
+         lubrication), of the bins' `sigma_xy` (the scene's stress convention), the parts, \
+         and the structural Brownian stress (thesis eq 3.54) beside them:\n\n\
+         | state | phi | seeds | eta_r (pairs) | eta_r (bins) | contact | hydrodynamic | drag | structural Brownian | seeds' law | pairs / law | mu | J |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
-    let mut by_phi: BTreeMap<String, Vec<&FlowPoint>> = BTreeMap::new();
-    for p in points {
-        by_phi.entry(format!("{:.4}", p.phi)).or_default().push(p);
-    }
-    for sel in by_phi.values() {
-        let col = |f: fn(&FlowPoint) -> f64| {
-            mean_and_standard_error(&sel.iter().map(|p| f(p)).collect::<Vec<_>>())
-        };
-        let phi = col(|p| p.summary.phi_actual).0;
-        let (eta, eta_se) = col(|p| p.rheology.eta_r.mean);
-        let (bins, bins_se) = col(|p| p.eta_r_bins.0);
-        let (mu, mu_se) = col(|p| p.rheology.mu.mean);
-        let (j, j_se) = col(|p| p.rheology.j.mean);
-        let law = SEEDS_LAW.eta_r(phi);
-        let _ = writeln!(
-            s,
-            "| {phi:.4} | {} | {eta:.2} ± {eta_se:.2} | {bins:.2} ± {bins_se:.2} | {law:.2} | {:.2} | {mu:.3} ± {mu_se:.3} | {j:.4} ± {j_se:.4} |",
-            sel.len(),
-            eta / law
-        );
+    for f in fits {
+        let at_state: Vec<&FlowPoint> = points.iter().filter(|p| p.state == f.state).collect();
+        for phi in volume_fractions(points) {
+            let sel: Vec<&FlowPoint> = at_state.iter().copied().filter(|p| p.phi == phi).collect();
+            if sel.is_empty() {
+                continue;
+            }
+            let col = |f: &dyn Fn(&FlowPoint) -> f64| {
+                mean_and_standard_error(&sel.iter().map(|p| f(p)).collect::<Vec<_>>())
+            };
+            let show = |(m, se): (f64, f64)| format!("{m:.2} ± {se:.2}");
+            let phi = col(&|p| p.summary.phi_actual).0;
+            let (eta, eta_se) = col(&|p| p.rheology.eta_r.mean);
+            let parts: Vec<String> = (0..PARTS.len())
+                .map(|q| show(col(&|p| p.parts[q].0)))
+                .collect();
+            let (mu, mu_se) = col(&|p| p.rheology.mu.mean);
+            let (j, j_se) = col(&|p| p.rheology.j.mean);
+            let law = SEEDS_LAW.eta_r(phi);
+            let _ = writeln!(
+                s,
+                "| {} | {phi:.4} | {} | {eta:.2} ± {eta_se:.2} | {} | {} | {:.2} | {:.2} | {mu:.3} ± {mu_se:.3} | {j:.4} ± {j_se:.4} |",
+                f.state.label(),
+                sel.len(),
+                show(col(&|p| p.eta_r_bins.0)),
+                parts.join(" | "),
+                law,
+                eta / law
+            );
+        }
     }
     s.push_str(
-        "\nFit of `eta_r = (1 - phi/phi_J)^(-lambda)` (least squares in `ln eta_r`, all \
-         points; standard errors from the seeds' separate fits), beside the seeds' \
-         `phi_J = 0.642`, `lambda = 1.5`:\n\n\
-         | stress | phi_J | lambda | per seed (phi_J, lambda) |\n|---|---|---|---|\n",
+        "\nFit of `eta_r = (1 - phi/phi_J)^(-lambda)` per state (least squares in `ln eta_r`, \
+         all points; standard errors from the seeds' separate fits), beside the seeds' \
+         `phi_J = 0.642`, `lambda = 1.5` (frictionless, high Pe) and `phi_J = 0.587` (Pe -> 0, \
+         hydrodynamic + Green-Kubo Brownian viscosity):\n\n\
+         | state | stress | phi_J | lambda | per seed (phi_J, lambda) |\n|---|---|---|---|---|\n",
     );
-    for ((name, _), f) in CONVENTIONS.iter().zip(fits) {
-        let seeds: Vec<String> = f
-            .per_seed
-            .iter()
-            .map(|(s, l)| format!("seed {s}: {:.4}, {:.3}", l.phi_j, l.lambda))
-            .collect();
-        let _ = writeln!(
-            s,
-            "| {name} | {:.4} ± {:.4} | {:.3} ± {:.3} | {} |",
-            f.all.phi_j,
-            f.phi_j_se,
-            f.all.lambda,
-            f.lambda_se,
-            seeds.join("; ")
-        );
+    for f in fits {
+        for ((name, _), fit) in CONVENTIONS.iter().zip(&f.fits) {
+            match fit {
+                Ok(fit) => {
+                    let seeds: Vec<String> = fit
+                        .per_seed
+                        .iter()
+                        .map(|(s, l)| format!("seed {s}: {:.4}, {:.3}", l.phi_j, l.lambda))
+                        .collect();
+                    let _ = writeln!(
+                        s,
+                        "| {} | {name} | {:.4} ± {:.4} | {:.3} ± {:.3} | {} |",
+                        f.state.label(),
+                        fit.all.phi_j,
+                        fit.phi_j_se,
+                        fit.all.lambda,
+                        fit.lambda_se,
+                        seeds.join("; ")
+                    );
+                }
+                Err(e) => {
+                    let _ = writeln!(s, "| {} | {name} | not fitted: {e} | | |", f.state.label());
+                }
+            }
+        }
     }
     if let Some(bands) = local {
         let _ = writeln!(
@@ -392,7 +641,13 @@ fn summary_text(
             0.5 * local_viscosity::BAND_WIDTH
         );
         for b in bands {
-            let (pairs, bins) = (&fits[0].all, &fits[1].all);
+            let (Some(Ok(pairs)), Some(Ok(bins))) = (
+                fits.first().map(|f| &f.fits[0]),
+                fits.first().map(|f| &f.fits[1]),
+            ) else {
+                continue;
+            };
+            let (pairs, bins) = (&pairs.all, &bins.all);
             let _ = writeln!(
                 s,
                 "| {:.2} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",

@@ -7,7 +7,7 @@ use crate::input::memory_estimate;
 use crate::input::run_cost::RunCost;
 use crate::input::scene_limits::{self, show, PHI_MAX};
 use crate::input::scene_name;
-use crate::input::thermal_scales::ThermalScales;
+use crate::input::thermal_scales::{self, ThermalScales};
 use crate::integrate::timestep::TimeStep;
 use crate::sampling::conventions::Conventions;
 use crate::state::particles::sphere_volume;
@@ -89,6 +89,11 @@ pub struct FluidSection {
     /// eta a^3 / time); 0 = non-Brownian, and then nothing of them is evaluated.
     #[serde(default, rename = "kT", skip_serializing_if = "is_zero")]
     pub kt: f64,
+    /// Peclet number `6 pi eta a^3 gdot / kT` (a the small radius) of homogeneous shear:
+    /// with `shear_rate` it sets `kT`, with `kT` the shear rate (see
+    /// [`thermal_scales::complete_from_peclet`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peclet: Option<f64>,
 }
 
 fn is_zero(v: &f64) -> bool {
@@ -433,6 +438,8 @@ impl Scene {
             ));
         }
         positive("fluid.eta", file.fluid.eta)?;
+        let a_min = p.radii.iter().cloned().fold(f64::INFINITY, f64::min);
+        thermal_scales::complete_from_peclet(&mut file.fluid, a_min)?;
         if !(file.fluid.kt.is_finite() && file.fluid.kt >= 0.0) {
             return Err(SimError::field(
                 "fluid.kT",
@@ -512,7 +519,6 @@ impl Scene {
         let gdot_max = profile.max_abs_shear_rate();
 
         let a_max = p.radii.iter().cloned().fold(0.0, f64::max);
-        let a_min = p.radii.iter().cloned().fold(f64::INFINITY, f64::min);
         let interaction_range = f.reach(2.0 * a_max);
         let needed = 2.0 * (interaction_range + r.skin);
         if file.fluid.shear_rate.is_some() && b.l_y < 1.5 * needed {

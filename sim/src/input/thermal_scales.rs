@@ -1,5 +1,8 @@
 //! The time scales and dimensionless groups of a Brownian scene (thesis section 3.8,
 //! paper eqs 2.28-2.31; docs/physics.md section 11), with `a` the small radius.
+use crate::error::SimError;
+use crate::input::scene::FluidSection;
+use crate::input::scene_limits::show;
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -24,6 +27,62 @@ pub struct ThermalScales {
     pub peclet: Option<f64>,
 }
 
+/// Peclet number `Pe = 6 pi eta a^3 gdot / kT` (paper section 2.6, thesis eq 2.4) of a
+/// sphere of radius `a` in fluid of viscosity `eta` sheared at `gdot` at thermal energy `kt`.
+pub fn peclet_number(eta: f64, a: f64, gdot: f64, kt: f64) -> f64 {
+    6.0 * PI * eta * a.powi(3) * gdot / kt
+}
+
+/// Largest relative disagreement accepted between a given `fluid.peclet` and the one the
+/// given shear rate and thermal energy imply (room for decimal round-off of a written-out
+/// scene).
+const PECLET_TOLERANCE: f64 = 1e-9;
+
+/// Completes a homogeneous-shear fluid section given by its Peclet number `fluid.peclet`
+/// (small radius `a`): with `fluid.shear_rate`, sets `kT = 6 pi eta a^3 gdot / Pe` (Pe
+/// through the thermal energy at a fixed rate); with `fluid.kT`, sets
+/// `shear_rate = Pe kT / (6 pi eta a^3)` (Pe through the rate at a fixed thermal energy;
+/// thesis Table 4.1 does the first above Pe = 1 and the second below). With all three given
+/// they must agree. Without `fluid.peclet` nothing changes.
+pub fn complete_from_peclet(fluid: &mut FluidSection, a: f64) -> Result<(), SimError> {
+    let Some(pe) = fluid.peclet else {
+        return Ok(());
+    };
+    let field = |m: String| SimError::field("fluid.peclet", m);
+    if !(pe.is_finite() && pe > 0.0) {
+        return Err(field(format!(
+            "must be a positive finite number, got {}",
+            show(pe)
+        )));
+    }
+    if !fluid.profile.is_empty() {
+        return Err(field(
+            "sets homogeneous shear (with fluid.shear_rate or fluid.kT); for a profile give              fluid.kT instead"
+                .into(),
+        ));
+    }
+    let (eta, kt) = (fluid.eta, fluid.kt);
+    match fluid.shear_rate {
+        Some(gdot) if kt > 0.0 => {
+            let implied = peclet_number(eta, a, gdot, kt);
+            if (implied / pe - 1.0).abs() > PECLET_TOLERANCE {
+                return Err(field(format!(
+                    "{pe} disagrees with fluid.shear_rate = {gdot} and fluid.kT = {kt}, which                      give Pe = 6 pi eta a^3 gdot / kT = {implied}: give two of the three"
+                )));
+            }
+        }
+        Some(gdot) => fluid.kt = peclet_number(eta, a, gdot, 1.0) / pe,
+        None if kt > 0.0 => fluid.shear_rate = Some(pe * kt / peclet_number(eta, a, 1.0, 1.0)),
+        None => {
+            return Err(field(
+                "needs fluid.shear_rate (Pe then sets kT) or fluid.kT (Pe then sets the shear                  rate)"
+                    .into(),
+            ))
+        }
+    }
+    Ok(())
+}
+
 impl ThermalScales {
     /// Scales at thermal energy `kt > 0` for fluid viscosity `eta`, particle density
     /// `rho`, small radius `a` and largest shear rate `gdot_max` (0 without flow).
@@ -35,7 +94,7 @@ impl ThermalScales {
             tau_b,
             tau_i,
             inertia_diffusion: tau_i / tau_b,
-            peclet: (gdot_max > 0.0).then_some(6.0 * PI * tau_b * gdot_max),
+            peclet: (gdot_max > 0.0).then(|| peclet_number(eta, a, gdot_max, kt)),
         }
     }
 

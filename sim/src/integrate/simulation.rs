@@ -468,11 +468,28 @@ impl Simulation {
 
     /// One step of the scene's integrator, then the blow-up checks.
     pub fn step(&mut self) -> Result<(), SimError> {
+        self.step_observed(&mut |_| {})
+    }
+
+    /// [`Self::step`], calling `at_midpoint` with the system at the midpoint of an
+    /// implicit Brownian step, its velocities the step's mean velocity `W` (see
+    /// [`Self::samples_midpoints`]); the other integrators never call it.
+    pub fn step_observed(
+        &mut self,
+        at_midpoint: &mut dyn FnMut(&Simulation),
+    ) -> Result<(), SimError> {
         match (self.timestep.integrator, self.thermal.is_some()) {
             (Integrator::Implicit, false) => self.implicit_step(),
-            (Integrator::Implicit, true) => self.brownian_step(),
+            (Integrator::Implicit, true) => self.brownian_step(at_midpoint),
             (Integrator::Explicit, _) => self.verlet_step(),
         }
+    }
+
+    /// Whether [`Self::step_observed`] shows the steps' midpoints: the implicit step of a
+    /// Brownian scene, whose pair stress is then sampled there, step by step
+    /// ([`crate::sampling::snapshot::StepPairSums`]).
+    pub fn samples_midpoints(&self) -> bool {
+        self.timestep.integrator == Integrator::Implicit && self.thermal.is_some()
     }
 
     /// One implicit step (docs/physics.md section 5): drift with the last velocities,
@@ -499,7 +516,7 @@ impl Simulation {
     /// velocities at `kT / m` and the long-time diffusion at `kT / R` at any `dt`, and the
     /// midpoint gives the stochastic drift `kT div R^-1` where the step overdamps the
     /// lubricated pairs.
-    fn brownian_step(&mut self) -> Result<(), SimError> {
+    fn brownian_step(&mut self, at_midpoint: &mut dyn FnMut(&Simulation)) -> Result<(), SimError> {
         let (dt, half) = (self.timestep.dt, 0.5 * self.timestep.dt);
         if self.list.stale(&self.particles.pos, &self.pbox) {
             self.rebuild_list();
@@ -546,6 +563,9 @@ impl Simulation {
         th.add_kicks(&mut self.particles);
         th.restore_start(&mut self.particles);
         self.solve_dissipation(half)?;
+        let t = self.timers.start();
+        at_midpoint(self);
+        self.timers.stop(Stage::Sampling, t);
         let t = self.timers.start();
         self.pbox.set_time(self.time + dt);
         let th = self
@@ -628,8 +648,17 @@ impl Simulation {
 
     /// Advances `n` steps.
     pub fn advance(&mut self, n: u64) -> Result<(), SimError> {
+        self.advance_observed(n, &mut |_| {})
+    }
+
+    /// Advances `n` steps, each by [`Self::step_observed`].
+    pub fn advance_observed(
+        &mut self,
+        n: u64,
+        at_midpoint: &mut dyn FnMut(&Simulation),
+    ) -> Result<(), SimError> {
         for _ in 0..n {
-            self.step()?;
+            self.step_observed(at_midpoint)?;
         }
         Ok(())
     }

@@ -90,19 +90,88 @@ impl Sampler {
         }
     }
 
-    /// Adds one snapshot of `sim` into `out` (length `FIELDS * bins.count`).
-    pub fn accumulate(&mut self, sim: &Simulation, out: &mut [f64]) {
+    /// Adds one snapshot of `sim` into `out` (length `FIELDS * bins.count`). Its pair
+    /// sums ([`PAIR_FIELDS`]) are the instantaneous ones, or, when `steps` holds the sums
+    /// of the steps since the last snapshot (see [`StepPairSums`]), their mean, and
+    /// `steps` is emptied.
+    pub fn accumulate(&mut self, sim: &Simulation, steps: &mut StepPairSums, out: &mut [f64]) {
         let l_y = self.bins.width * self.bins.count as f64;
         let p = &sim.particles;
         let du = self
             .local
             .deviations(&p.pos, &p.vel, l_y, LOCAL_WINDOW * self.a_mean);
-        accumulate(sim, &self.bins, du, out);
+        accumulate_particles(sim, &self.bins, du, out);
+        if steps.steps == 0 {
+            accumulate_pairs(sim, &self.bins, out);
+        } else {
+            let nb = self.bins.count;
+            let per_step = 1.0 / steps.steps as f64;
+            for &f in &PAIR_FIELDS {
+                let range = f * nb..(f + 1) * nb;
+                for (o, s) in out[range.clone()].iter_mut().zip(&steps.sums[range]) {
+                    *o += s * per_step;
+                }
+            }
+            steps.clear();
+        }
+    }
+
+    /// Adds the pair sums of `sim`'s present state to `steps`: called by the Brownian
+    /// step at its midpoint (see [`StepPairSums`]).
+    pub fn add_step_pairs(&self, sim: &Simulation, steps: &mut StepPairSums) {
+        steps.sums.resize(field::FIELDS * self.bins.count, 0.0);
+        accumulate_pairs(sim, &self.bins, &mut steps.sums);
+        steps.steps += 1;
     }
 }
 
-/// Adds one snapshot of `sim` into `out`, with `local_du[i] = |v_x,i - u*_i|`.
-fn accumulate(sim: &Simulation, bins: &Bins, local_du: &[f64], out: &mut [f64]) {
+/// The fields of a snapshot summed over pairs: the pair stresslets, the face tractions,
+/// their contact part and the structural Brownian stress.
+pub const PAIR_FIELDS: [usize; 13] = {
+    use field::*;
+    [
+        SXX,
+        SYY,
+        SZZ,
+        SXY,
+        FACE_FX,
+        CONTACT,
+        CONTACT + 1,
+        CONTACT + 2,
+        CONTACT + 3,
+        BROWNIAN,
+        BROWNIAN + 1,
+        BROWNIAN + 2,
+        BROWNIAN + 3,
+    ]
+};
+
+/// The pair sums of a Brownian run's steps since its last snapshot (docs/physics.md
+/// section 11). The implicit Brownian step's stiff lubricated modes flip their end-of-step
+/// velocity `V' = 2 W - V` every step, so a snapshot of the lubrication stress at `V'`
+/// is dominated by that flip; its mean over the steps, each at the step's midpoint with
+/// the step's mean velocity `W` (the dissipative loads the trapezoidal rule applied), is
+/// the time average of the stress the dynamics exerted, without it. Kept in the run's
+/// checkpoint, so a resumed run averages the same steps.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize, PartialEq)]
+pub struct StepPairSums {
+    /// `FIELDS * n_bins` sums (only [`PAIR_FIELDS`] are filled), field-major.
+    pub sums: Vec<f64>,
+    /// Steps summed.
+    pub steps: u64,
+}
+
+impl StepPairSums {
+    /// Forgets the steps summed, keeping the memory.
+    pub fn clear(&mut self) {
+        self.sums.iter_mut().for_each(|x| *x = 0.0);
+        self.steps = 0;
+    }
+}
+
+/// Adds the per-particle sums of one snapshot of `sim` into `out`, with
+/// `local_du[i] = |v_x,i - u*_i|`.
+fn accumulate_particles(sim: &Simulation, bins: &Bins, local_du: &[f64], out: &mut [f64]) {
     use field::*;
     let nb = bins.count;
     let p = &sim.particles;
@@ -136,6 +205,13 @@ fn accumulate(sim: &Simulation, bins: &Bins, local_du: &[f64], out: &mut [f64]) 
             out[(base + f) * nb + k] += v;
         }
     }
+}
+
+/// Adds the sums over the pairs of `sim` ([`PAIR_FIELDS`]) into `out`.
+fn accumulate_pairs(sim: &Simulation, bins: &Bins, out: &mut [f64]) {
+    use field::*;
+    let nb = bins.count;
+    let p = &sim.particles;
     let frictional = sim.field.frictional();
     for i in 0..p.len() {
         for q in sim.list.start[i]..sim.list.start[i + 1] {

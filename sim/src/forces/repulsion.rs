@@ -60,6 +60,30 @@ impl Repulsion {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::input::scene::Scene;
+    use crate::integrate::simulation::Simulation;
+    use crate::state::particles::Particles;
+
+    /// The stress parts take the contact part from `PairOutcome::contact_force`
+    /// (sampling/snapshot.rs): without lubrication the whole pair load must be in it.
+    #[test]
+    fn the_repulsion_is_counted_in_the_contact_part_of_the_pair_load() {
+        let text = "[box]\nl_x = 12\nl_y = 12\nl_z = 12\n[particles]\nphi = 0.3\n\
+                    radii = [1.0]\n[fluid]\nkT = 0.004\n[forces]\nrepulsion = 1000\n\
+                    lubrication = false\n";
+        let scene = Scene::from_toml(text, false).unwrap();
+        let x_i = Vec3::new(3.0, 6.0, 6.0);
+        let pos = vec![x_i, x_i + Vec3::x() * 2.03];
+        let p = Particles::at_rest(pos, vec![1.0; 2], vec![0; 2], 1.0);
+        let sim = Simulation::new(&scene, p).unwrap();
+        let o = sim
+            .field
+            .pair(&sim.particles, &sim.pbox, 0, 1, None, 0.0)
+            .expect("inside the cut-off");
+        let expected = 200.0 * (-1.5f64).exp();
+        assert!((o.load.force_i.norm() - expected).abs() < 1e-12 * expected);
+        assert_eq!(o.contact_force, o.load.force_i);
+    }
 
     #[test]
     fn the_force_at_contact_is_a_over_kappa_and_pushes_apart() {

@@ -3,8 +3,8 @@
 //!
 //! `F^R = (A / kappa) exp(((a_i + a_j) - |r|) / kappa) n`,   `kappa = 0.01 (a_i + a_j)`,
 //!
-//! on j along the unit vector `n` from i to j (and `-F^R` on i), with `A = forces.repulsion
-//! * fluid.kT` (energy, units eta a^3 / time). It is conservative (the potential is
+//! on j along the unit vector `n` from i to j (and `-F^R` on i), with the energy
+//! `A = forces.repulsion * fluid.kT` (units eta a^3 / time). It is conservative (the potential is
 //! `A exp(-h / kappa)` at surface gap `h`), position-only, and grows exponentially inside
 //! an overlap, where the contact spring acts as well.
 use crate::state::Vec3;

@@ -87,8 +87,10 @@ pub fn damped_spring_limit(m_red: f64, k: f64, c: f64) -> f64 {
 /// Normal stiffness of a pair at contact that the contact stability limit uses: the
 /// spring's `k_n` (when contacts are on) plus the repulsion's `A / kappa^2` at
 /// `|r| = a_i + a_j` (when it is on; docs/physics.md section 11). Inside an overlap
-/// `delta` the repulsion is stiffer, by `exp(delta / kappa)`; the steps' safety fractions
-/// cover the small overlaps a run keeps. Zero when neither is on.
+/// `delta` the repulsion is stiffer, by `exp(delta / kappa)`. For the explicit step this
+/// is the stiffest gap `h >= 0`; for the implicit one, whose lubrication damper weakens as
+/// the gap opens, the worst gap's damped limit is 0.21-1.0 of this one's, above the
+/// Brownian step's [`THERMAL_FRACTION`] of it. Zero when neither is on.
 pub fn normal_stiffness(k_n: Option<f64>, repulsion: Option<Repulsion>) -> f64 {
     let spring = k_n.unwrap_or(0.0);
     match repulsion {

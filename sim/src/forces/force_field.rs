@@ -5,6 +5,7 @@ use crate::forces::contact::{ContactLaw, ContactMotion};
 use crate::forces::drag;
 use crate::forces::lubrication::{gap, LubricationCoefficients, PairResistance};
 use crate::forces::pair_load::PairLoad;
+use crate::forces::repulsion::Repulsion;
 use crate::input::flow_profile::FlowProfile;
 use crate::input::scene::SceneFile;
 use crate::state::particles::Particles;
@@ -17,10 +18,14 @@ pub struct PairConstants {
     /// `a_i + a_j`: contact distance.
     pub contact_distance: f64,
     /// Square of the interaction cut-off (lubrication `xi_max`, or contact; at least the
-    /// structural Brownian stress's shell in a Brownian scene).
+    /// structural Brownian stress's shell in a Brownian scene, and the repulsion's
+    /// cut-off when it is on).
     pub reach_squared: f64,
     /// Lubrication prefactors, when lubrication is on.
     pub lubrication: Option<LubricationCoefficients>,
+    /// The short-range repulsion, when `forces.repulsion > 0`; it acts on every pair
+    /// inside the cut-off.
+    pub repulsion: Option<Repulsion>,
     /// Smaller radius of the pair, the unit of its overlap ratio.
     pub a_min: f64,
 }
@@ -29,7 +34,8 @@ pub struct PairConstants {
 #[derive(Clone, Copy, Debug)]
 pub struct PairOutcome {
     pub load: PairLoad,
-    /// The contact part of `load.force_i` (normal and tangential springs); the rest of it
+    /// The contact part of `load.force_i`: normal and tangential springs and the
+    /// short-range repulsion, which is counted in the contact stress part; the rest of it
     /// is lubrication (docs/physics.md section 11, the stress parts).
     pub contact_force: Vec3,
     /// Minimum-image separation `x_j - x_i` (through the sliding images of a sheared box).
@@ -78,10 +84,13 @@ impl ForceField {
                     reach = reach.max(brownian_shell::reach(a_i, a_j));
                 }
                 max_cutoff = max_cutoff.max(reach);
+                let repulsion =
+                    (f.repulsion > 0.0).then(|| Repulsion::new(f.repulsion * kt, contact_distance));
                 pairs.push(PairConstants {
                     contact_distance,
                     reach_squared: reach * reach,
                     lubrication,
+                    repulsion,
                     a_min: a_i.min(a_j),
                 });
             }
@@ -113,8 +122,8 @@ impl ForceField {
         self.contact.is_some_and(|c| c.frictional())
     }
 
-    /// Load of the pair (i, j), or `None` when they are beyond the cut-off: contact plus
-    /// lubrication at the current velocities; through a sliding y image of a sheared box,
+    /// Load of the pair (i, j), or `None` when they are beyond the cut-off: contact (and
+    /// repulsion) plus lubrication at the current velocities; through a sliding y image of a sheared box,
     /// j moves with its image's velocity (docs/physics.md section 10). `spring` is the
     /// pair's tangential contact history (frictional scenes only), advanced by `dt`.
     #[inline]
@@ -135,7 +144,9 @@ impl ForceField {
         Some(out)
     }
 
-    /// The contact load of the pair (i, j) and its lubrication resistance, not applied
+    /// The contact load of the pair (i, j) (springs and repulsion: the conservative,
+    /// position-only part, which both integrators take as known) and its lubrication
+    /// resistance, not applied
     /// to the particles' own motion (the implicit step integrates that itself,
     /// docs/physics.md section 5), or `None` beyond the cut-off. Across a sliding y image
     /// the load includes the lubrication of the image's extra velocity.
@@ -194,6 +205,9 @@ impl ForceField {
             } else if let Some(s) = spring {
                 *s = Vec3::zeros();
             }
+        }
+        if let Some(repulsion) = &c.repulsion {
+            contact_load.force_i += repulsion.force_i(overlap, &n);
         }
         load.add(&contact_load);
         Some(PairOutcome {

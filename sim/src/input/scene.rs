@@ -1,6 +1,7 @@
 //! Scene files (TOML): the box, particles, fluid, force terms and run length, validated
 //! field by field, with the derived quantities a run needs (N, Stokes number, bins).
 use crate::error::SimError;
+use crate::forces::repulsion::Repulsion;
 use crate::input::flow_profile::FlowProfile;
 use crate::input::integrator::Integrator;
 use crate::input::memory_estimate;
@@ -122,18 +123,29 @@ pub struct ForceSection {
     /// Lubrication outer cut-off of the dimensionless gap.
     #[serde(default = "default_xi_max")]
     pub xi_max: f64,
+    /// Short-range repulsion `A / kT` (dimensionless; paper eq 4.2, thesis eq 4.4,
+    /// docs/physics.md section 11): the amplitude `A = repulsion * fluid.kT`, so it needs
+    /// `fluid.kT > 0`; 0 = off, and then nothing of it is evaluated.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub repulsion: f64,
 }
 
 impl ForceSection {
     /// Interaction range of a pair at contact distance `a_i + a_j` (units a): the
     /// lubrication cut-off `(a_i + a_j)(1 + xi_max / 2)`, where the gap
     /// `xi = 2 (r - a_i - a_j) / (a_i + a_j)` reaches `xi_max` (docs/physics.md section 4),
-    /// or the contact distance without lubrication.
+    /// or the contact distance without lubrication; with the repulsion on, at least its
+    /// cut-off `1.1 (a_i + a_j)`, a gap of 10 Debye lengths ([`Repulsion::reach`]).
     pub fn reach(&self, contact_distance: f64) -> f64 {
-        if self.lubrication {
+        let reach = if self.lubrication {
             contact_distance * (1.0 + 0.5 * self.xi_max)
         } else {
             contact_distance
+        };
+        if self.repulsion > 0.0 {
+            reach.max(Repulsion::reach(contact_distance))
+        } else {
+            reach
         }
     }
 }
@@ -467,6 +479,22 @@ impl Scene {
             return Err(SimError::field(
                 "forces.xi_min",
                 format!("must be below forces.xi_max ({} >= {})", f.xi_min, f.xi_max),
+            ));
+        }
+        if !(f.repulsion.is_finite() && f.repulsion >= 0.0) {
+            return Err(SimError::field(
+                "forces.repulsion",
+                format!("must be >= 0 (A / kT; 0 = off), got {}", show(f.repulsion)),
+            ));
+        }
+        if f.repulsion > 0.0 && file.fluid.kt == 0.0 {
+            return Err(SimError::field(
+                "forces.repulsion",
+                format!(
+                    "is A / kT and needs fluid.kT > 0 (the amplitude is A = repulsion * kT), \
+                     got repulsion = {} with kT = 0",
+                    f.repulsion
+                ),
             ));
         }
         let r = &file.run;

@@ -4,6 +4,7 @@
 //! The step is a safety fraction of the tightest stability limit, capped by accuracy.
 use crate::forces::drag;
 use crate::forces::force_field::ForceField;
+use crate::forces::repulsion::Repulsion;
 use crate::input::integrator::Integrator;
 use crate::input::scene::{Scene, SceneFile};
 use crate::state::particles::sphere_mass;
@@ -54,8 +55,9 @@ pub struct TimeStep {
     pub dt: f64,
     /// What set it.
     pub limit: DtLimit,
-    /// Stability limit of the contact spring (infinite without contacts). Explicit scheme:
-    /// `2 sqrt(m_red / k_n)`, the undamped spring. Implicit step: the spring damped,
+    /// Stability limit of the contact spring (infinite without contacts or repulsion), its
+    /// stiffness `k_n` plus the repulsion's `A / kappa^2` at contact when that is on (see
+    /// [`normal_stiffness`]). Explicit scheme: `2 sqrt(m_red / k_n)`, the undamped spring. Implicit step: the spring damped,
     /// implicitly, by the lubrication squeeze resistance `X = X11A(xi_min)` every
     /// overlapping pair carries, `(X + sqrt(X^2 + 4 k_n m_red)) / k_n` (see
     /// [`damped_spring_limit`]); the same with `k_t` and `Y11A(xi_min)` for friction.
@@ -82,6 +84,21 @@ pub fn damped_spring_limit(m_red: f64, k: f64, c: f64) -> f64 {
     (c + (c * c + 4.0 * k * m_red).sqrt()) / k
 }
 
+/// Normal stiffness of a pair at contact that the contact stability limit uses: the
+/// spring's `k_n` (when contacts are on) plus the repulsion's `A / kappa^2` at
+/// `|r| = a_i + a_j` (when it is on; docs/physics.md section 11). Inside an overlap
+/// `delta` the repulsion is stiffer, by `exp(delta / kappa)`. For the explicit step this
+/// is the stiffest gap `h >= 0`; for the implicit one, whose lubrication damper weakens as
+/// the gap opens, the worst gap's damped limit is 0.21-1.0 of this one's, above the
+/// Brownian step's [`THERMAL_FRACTION`] of it. Zero when neither is on.
+pub fn normal_stiffness(k_n: Option<f64>, repulsion: Option<Repulsion>) -> f64 {
+    let spring = k_n.unwrap_or(0.0);
+    match repulsion {
+        Some(r) => spring + r.contact_stiffness(),
+        None => spring,
+    }
+}
+
 impl TimeStep {
     /// Critical steps over every species pair, and the step the scene asks for: `run.dt`
     /// if given, else `dt_safety * dt_factor` times the tightest stability limit of the
@@ -98,17 +115,19 @@ impl TimeStep {
             }
             for (s_j, &a_j) in radii.iter().enumerate() {
                 let m_red = mass(a_i) * mass(a_j) / (mass(a_i) + mass(a_j));
-                let lubrication = &field.constants(s_i as u16, s_j as u16).lubrication;
-                if let Some(c) = &field.contact {
-                    let (mut normal, mut tangential) = (0.0, 0.0);
-                    if let (Integrator::Implicit, Some(l)) = (file.run.integrator, lubrication) {
-                        let r = l.resistance(l.xi_min).unwrap_or_default();
-                        (normal, tangential) = (r.x11a, r.y11a);
-                    }
-                    contact = contact.min(damped_spring_limit(m_red, c.k_n, normal));
-                    if c.frictional() {
-                        contact = contact.min(damped_spring_limit(m_red, c.k_t, tangential));
-                    }
+                let constants = field.constants(s_i as u16, s_j as u16);
+                let lubrication = &constants.lubrication;
+                let (mut normal, mut tangential) = (0.0, 0.0);
+                if let (Integrator::Implicit, Some(l)) = (file.run.integrator, lubrication) {
+                    let r = l.resistance(l.xi_min).unwrap_or_default();
+                    (normal, tangential) = (r.x11a, r.y11a);
+                }
+                let k_normal = normal_stiffness(field.contact.map(|c| c.k_n), constants.repulsion);
+                if k_normal > 0.0 {
+                    contact = contact.min(damped_spring_limit(m_red, k_normal, normal));
+                }
+                if let Some(c) = field.contact.filter(|c| c.frictional()) {
+                    contact = contact.min(damped_spring_limit(m_red, c.k_t, tangential));
                 }
                 if let Some(l) = lubrication {
                     lub = lub.min(2.0 * m_red / l.x11a(l.xi_min));

@@ -567,6 +567,68 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Issue 28: a grid over the Peclet number gives the parts of `eta_r` per run, a fit per
+/// Peclet number and a figure of `eta_r(Pe)` per volume fraction.
+#[test]
+fn flow_curves_over_the_peclet_number_split_the_viscosity() {
+    let dir = temp_dir("flow-curves-pe");
+    let (runs, out) = (dir.join("runs"), dir.join("report"));
+    let grid = "tests/grids/tiny_brownian_shear.toml";
+    let runs_arg = runs.to_str().unwrap();
+    let bins = dir.join("bins.csv");
+    let generate = [
+        "generate",
+        grid,
+        "--out",
+        bins.to_str().unwrap(),
+        "--work",
+        runs_arg,
+        "--jobs",
+        "2",
+        "--threads",
+        "1",
+    ];
+    assert_ok(&suspflow(&generate));
+    let out_arg = out.to_str().unwrap();
+    assert_ok(&suspflow(&[
+        "flow-curves",
+        grid,
+        "--runs",
+        runs_arg,
+        "--out",
+        out_arg,
+    ]));
+    let (header, rows) = read_csv(&out.join("flow_curves.csv"));
+    assert_eq!(rows.len(), 6);
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let value = |row: &Vec<String>, name: &str| -> f64 { row[column(name)].parse().unwrap() };
+    for row in &rows {
+        let pe = value(row, "peclet");
+        assert!(pe == 10.0 || pe == 1000.0, "{row:?}");
+        assert_eq!(value(row, "mu_p"), 0.0);
+        // kT from Pe at gdot = 0.01: Pe = 6 pi eta a^3 gdot / kT.
+        let kt = value(row, "kT");
+        assert!((6.0 * std::f64::consts::PI * 0.01 / kt / pe - 1.0).abs() < 1e-9);
+        // The box's eta_r is the contact and lubrication parts (identity of the split);
+        // the structural Brownian part is positive (a shear-thinning stress) and beside it.
+        let parts = value(row, "eta_r_contact") + value(row, "eta_r_hydrodynamic");
+        let eta_r = value(row, "eta_r");
+        assert!((parts - eta_r).abs() < 1e-9 * eta_r.abs(), "{row:?}");
+        assert!(value(row, "eta_r_brownian") > 0.0, "{row:?}");
+        assert!(value(row, "eta_r_se") > 0.0, "{row:?}");
+    }
+    let readme = std::fs::read_to_string(out.join("README.md")).unwrap();
+    assert!(
+        readme.contains("| mu_p = 0, Pe = 1.000e1 | pair stresslets (box) |"),
+        "{readme}"
+    );
+    for phi in ["0.400", "0.480", "0.550"] {
+        let svg = std::fs::read_to_string(out.join(format!("eta_r_Pe_phi{phi}.svg"))).unwrap();
+        assert!(svg.contains("structural Brownian"), "phi {phi}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn coverage_draws_both_planes_and_tabulates_the_ranges_of_the_data() {
     let dir = temp_dir("coverage");

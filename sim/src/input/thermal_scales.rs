@@ -128,4 +128,46 @@ mod tests {
         assert!(high.warning().is_none());
         assert_eq!(ThermalScales::new(0.017, 0.1, 0.1, 1.0, 0.0).peclet, None);
     }
+
+    fn fluid(text: &str) -> FluidSection {
+        toml::from_str(text).expect("a fluid section")
+    }
+
+    /// Thesis Table 4.1 again, through `fluid.peclet`: at gdot = 9e-3 and eta = 0.1, Pe = 1
+    /// needs kT = 0.017 (to the table's 1 %), and Pe = 1e4 kT = 1.7e-6; at kT = 0.017,
+    /// Pe = 0.01 needs gdot = 9.0e-5.
+    #[test]
+    fn peclet_sets_the_thermal_energy_or_the_shear_rate() {
+        let mut f = fluid("eta = 0.1\nshear_rate = 9.0e-3\npeclet = 1.0");
+        complete_from_peclet(&mut f, 1.0).unwrap();
+        assert!((f.kt / 0.017 - 1.0).abs() < 0.01, "{}", f.kt);
+        let mut f = fluid("eta = 0.1\nshear_rate = 9.0e-3\npeclet = 1e4");
+        complete_from_peclet(&mut f, 1.0).unwrap();
+        assert!((f.kt / 1.7e-6 - 1.0).abs() < 0.01, "{}", f.kt);
+        let mut f = fluid("eta = 0.1\nkT = 0.017\npeclet = 0.01");
+        complete_from_peclet(&mut f, 1.0).unwrap();
+        let gdot = f.shear_rate.unwrap();
+        assert!((gdot / 9.0e-5 - 1.0).abs() < 0.01, "{gdot}");
+        // The completed section is self-consistent: read back with all three, accepted.
+        let s = ThermalScales::new(f.kt, f.eta, 0.1, 1.0, gdot);
+        assert!((s.peclet.unwrap() / 0.01 - 1.0).abs() < 1e-12);
+        complete_from_peclet(&mut f, 1.0).unwrap();
+    }
+
+    #[test]
+    fn peclet_refuses_what_it_cannot_complete() {
+        let refused = |text: &str, what: &str| {
+            let e = complete_from_peclet(&mut fluid(text), 1.0)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("fluid.peclet") && e.contains(what),
+                "{text}: {e}"
+            );
+        };
+        refused("peclet = 1.0", "needs fluid.shear_rate");
+        refused("peclet = -1.0\nshear_rate = 0.01", "positive");
+        refused("peclet = 1.0\nprofile = \"0.1*y\"", "for a profile");
+        refused("peclet = 2.0\nshear_rate = 0.01\nkT = 0.01", "disagrees");
+    }
 }

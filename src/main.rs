@@ -24,6 +24,8 @@ enum Command {
     /// Flow curves of a homogeneous-shear grid run by `generate`: fit of phi_J and lambda,
     /// figures, and the local-versus-homogeneous viscosity.
     FlowCurves(commands::flow_curves::Args),
+    /// Green-Kubo Brownian viscosity of an unsheared Brownian scene.
+    GreenKubo(commands::green_kubo::Args),
     /// Combine datasets of distinct scenes (e.g. the shards of a grid) into one.
     Merge(commands::merge::Args),
     /// Plot every scene of a dataset along y (u, phi_loc, mu, J, Theta, Delta_v) as SVG.
@@ -63,6 +65,7 @@ fn main() -> anyhow::Result<()> {
         Command::Simulate(args) => commands::simulate::run(args),
         Command::Generate(args) => commands::generate::run(args),
         Command::FlowCurves(args) => commands::flow_curves::run(args),
+        Command::GreenKubo(args) => commands::green_kubo::run(args),
         Command::Merge(args) => commands::merge::run(args),
         Command::Plot(args) => commands::plot::run(args),
         Command::Report(args) => commands::report::run(args),

@@ -567,6 +567,66 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Issue 28: the Green-Kubo Brownian viscosity of an unsheared scene is positive, its running
+/// integral starts at zero, and sheared scenes or spans too short for the lag are refused
+/// before anything runs.
+#[test]
+fn green_kubo_integrates_an_equilibrium_run_and_refuses_what_it_cannot() {
+    let dir = temp_dir("green-kubo");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("eq.toml");
+    let text = "box = { l_x = 10.0, l_y = 10.0, l_z = 10.0 }\n\
+                particles = { phi = 0.3, rho = 0.5 }\nfluid = { kT = 0.2 }\n";
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("gk");
+    let args = |extra: &[&str]| {
+        let mut a = vec![
+            "green-kubo",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        a.extend_from_slice(extra);
+        suspflow(&a)
+    };
+    let ran = args(&[
+        "--warmup",
+        "1",
+        "--span",
+        "20",
+        "--max-lag",
+        "0.5",
+        "--blocks",
+        "5",
+    ]);
+    assert_ok(&ran);
+    let stdout = String::from_utf8_lossy(&ran.stdout);
+    assert!(stdout.contains("eta_B / eta = "), "{stdout}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("green_kubo.json")).unwrap())
+            .unwrap();
+    let eta_b = json["eta_brownian_over_eta"].as_f64().unwrap();
+    assert!(eta_b > 0.0 && eta_b.is_finite(), "{json}");
+    let (header, rows) = read_csv(&out.join("green_kubo.csv"));
+    assert_eq!(header[3], "running_eta_over_eta");
+    assert_eq!(rows[0][3].parse::<f64>().unwrap(), 0.0);
+    let short = args(&["--span", "1", "--max-lag", "0.5", "--force"]);
+    let stderr = String::from_utf8_lossy(&short.stderr);
+    assert!(
+        !short.status.success() && stderr.contains("too few"),
+        "{stderr}"
+    );
+    let sheared = text.replace("kT = 0.2", "kT = 0.2, shear_rate = 0.01");
+    std::fs::write(&scene, sheared).unwrap();
+    let refused = args(&["--force"]);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && stderr.contains("unsheared"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// Issue 28: a grid over the Peclet number gives the parts of `eta_r` per run, a fit per
 /// Peclet number and a figure of `eta_r(Pe)` per volume fraction.
 #[test]

@@ -7,6 +7,9 @@ pub enum SimError {
     /// A scene field has an invalid value.
     #[error("scene field `{field}`: {message}")]
     Field { field: String, message: String },
+    /// A Green-Kubo integral asked of a series too short for its lag and blocks.
+    #[error("Green-Kubo integral: {0}")]
+    GreenKubo(String),
     /// The flow profile expression does not parse, is not finite, or is not periodic.
     #[error("flow profile `{expr}`: {message}")]
     Profile { expr: String, message: String },

@@ -5,7 +5,7 @@ use sim::integrate::simulation::Simulation;
 use sim::output::result_files::profile_rows;
 use sim::run::{initial_particles, run, RunOptions};
 use sim::sampling::binning::Bins;
-use sim::sampling::snapshot::{field, Sampler};
+use sim::sampling::snapshot::{field, Sampler, StepPairSums};
 use sim::SimError;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -288,7 +288,11 @@ fn binned_solid_volume_sums_to_the_total() {
     let sim = Simulation::new(&scene, initial_particles(&scene).unwrap()).unwrap();
     let bins = Bins::new(scene.file.run.bin_width, scene.n_bins);
     let mut sums = vec![0.0; field::FIELDS * scene.n_bins];
-    Sampler::new(bins, scene.mean_radius()).accumulate(&sim, &mut sums);
+    Sampler::new(bins, scene.mean_radius()).accumulate(
+        &sim,
+        &mut StepPairSums::default(),
+        &mut sums,
+    );
     let nb = scene.n_bins;
     let binned: f64 = sums[field::VOLUME * nb..(field::VOLUME + 1) * nb]
         .iter()

@@ -185,7 +185,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .stress_parts
                 .get(part)
                 .map_or((f64::NAN, f64::NAN), |e| {
-                    (-e.mean / eta_gdot, e.se / eta_gdot)
+                    // `+ 0.0` turns the -0 of a zero part (no Brownian forces) into 0.
+                    (-e.mean / eta_gdot + 0.0, e.se / eta_gdot)
                 })
         });
         let state = State {
@@ -663,6 +664,10 @@ fn summary_text(
             );
         }
     }
-    s.push_str("\nFigures: `eta_r.svg` (eta_r against phi), `mu_J.svg` (mu against J); data in `flow_curves.csv`.\n");
+    s.push_str("\nFigures: `eta_r.svg` (eta_r against phi), `mu_J.svg` (mu against J)");
+    if points.iter().any(|p| p.state.peclet.is_finite()) {
+        s.push_str(", `eta_r_Pe_phi*.svg` (eta_r and its parts against Pe, per phi)");
+    }
+    s.push_str("; data in `flow_curves.csv`.\n");
     s
 }

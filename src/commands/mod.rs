@@ -9,6 +9,7 @@ pub mod coverage;
 pub mod cross_validate;
 pub mod flow_curves;
 pub mod generate;
+pub mod green_kubo;
 pub mod merge;
 pub mod plot;
 pub mod predict;

@@ -6,6 +6,7 @@ pub mod binning;
 pub mod block_sums;
 pub mod convention_effects;
 pub mod conventions;
+pub mod green_kubo;
 pub mod local_velocity;
 pub mod periodic_derivative;
 pub mod scene_binning;

@@ -47,6 +47,11 @@ pub struct Args {
     /// (e.g. datasets/train.csv).
     #[arg(long)]
     local: Option<PathBuf>,
+    /// Output directories of `suspflow green-kubo` (one per volume fraction): adds the fit
+    /// of the seeds' Pe -> 0 estimate, the hydrodynamic viscosity (lubrication and drag)
+    /// plus the Green-Kubo Brownian viscosity at the same volume fraction.
+    #[arg(long, num_args = 1..)]
+    green_kubo: Vec<PathBuf>,
     /// Output directory: flow_curves.csv, eta_r.svg, mu_J.svg, README.md.
     #[arg(long)]
     out: PathBuf,
@@ -117,9 +122,49 @@ struct FlowPoint {
     kt: f64,
     /// The [`PARTS`] of `eta_r`, `(mean, standard error)`, NaN where the run has none.
     parts: [(f64, f64); 4],
+    /// The Green-Kubo Brownian viscosity over eta at this volume fraction, when given.
+    green_kubo: Option<(f64, f64)>,
+}
+
+/// The fields of a `suspflow green-kubo` result this command reads.
+#[derive(serde::Deserialize)]
+struct GreenKuboResult {
+    phi_actual: f64,
+    /// The running integral extrapolated to infinite lag, as the seeds did.
+    #[serde(rename = "extrapolated_eta_brownian_over_eta")]
+    eta_brownian_over_eta: f64,
+    #[serde(rename = "extrapolated_eta_brownian_over_eta_se")]
+    eta_brownian_over_eta_se: f64,
+}
+
+/// Largest difference of realised volume fractions for a Green-Kubo result to belong to
+/// a flow-curve point (the same box and phi give the same count of spheres).
+const GREEN_KUBO_PHI_MATCH: f64 = 1e-3;
+
+fn read_green_kubo(dirs: &[PathBuf]) -> anyhow::Result<Vec<GreenKuboResult>> {
+    dirs.iter()
+        .map(|d| {
+            let path = d.join("green_kubo.json");
+            let text = std::fs::read_to_string(&path).with_context(|| {
+                format!("reading {} (a `suspflow green-kubo` --out)", path.display())
+            })?;
+            serde_json::from_str(&text).with_context(|| format!("reading {}", path.display()))
+        })
+        .collect()
 }
 
 impl FlowPoint {
+    /// The seeds' low-Pe estimate (paper section 4, Fig. 6a): the hydrodynamic viscosity
+    /// (lubrication and one-body drag) plus the Green-Kubo Brownian viscosity of the
+    /// unsheared suspension at the same volume fraction; NaN without one.
+    fn eta_r_hydrodynamic_green_kubo(&self) -> (f64, f64) {
+        let Some((gk, gk_se)) = self.green_kubo else {
+            return (f64::NAN, f64::NAN);
+        };
+        let ((h, h_se), (d, d_se)) = (self.parts[1], self.parts[2]);
+        (h + d + gk, h_se.hypot(d_se).hypot(gk_se))
+    }
+
     /// `eta_r` with the structural Brownian stress added (the seeds' low-Pe fit adds a
     /// Brownian viscosity to the hydrodynamic one).
     fn eta_r_with_brownian(&self) -> (f64, f64) {
@@ -132,7 +177,7 @@ impl FlowPoint {
 /// The two stress conventions: name, and `(eta_r, standard error)` of a point.
 type Convention = (&'static str, fn(&FlowPoint) -> (f64, f64));
 
-const CONVENTIONS: [Convention; 3] = [
+const CONVENTIONS: [Convention; 4] = [
     ("pair stresslets (box)", |p| {
         (p.rheology.eta_r.mean, p.rheology.eta_r.se)
     }),
@@ -141,11 +186,16 @@ const CONVENTIONS: [Convention; 3] = [
         "pair stresslets + structural Brownian",
         FlowPoint::eta_r_with_brownian,
     ),
+    (
+        "hydrodynamic + drag + Green-Kubo Brownian (the seeds' Pe -> 0)",
+        FlowPoint::eta_r_hydrodynamic_green_kubo,
+    ),
 ];
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, false)?;
     crate::output_guard::out_dir(&args.out)?;
+    let green_kubo = read_green_kubo(&args.green_kubo)?;
     let mut points = Vec::new();
     let mut missing = Vec::new();
     for gs in &grid.runs {
@@ -197,7 +247,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .and_then(|t| t.peclet)
                 .unwrap_or(f64::INFINITY),
         };
+        let green_kubo = green_kubo
+            .iter()
+            .find(|g| (g.phi_actual - summary.phi_actual).abs() < GREEN_KUBO_PHI_MATCH)
+            .map(|g| (g.eta_brownian_over_eta, g.eta_brownian_over_eta_se));
         points.push(FlowPoint {
+            green_kubo,
             id: gs.id.clone(),
             phi: gs.scene.file.particles.phi,
             seed: gs.scene.file.seed,
@@ -553,7 +608,12 @@ fn summary_text(
         args.runs.display(),
         args.local
             .as_ref()
-            .map_or(String::new(), |l| format!(" --local {}", l.display())),
+            .map_or(String::new(), |l| format!(" --local {}", l.display()))
+            + &args
+                .green_kubo
+                .iter()
+                .map(|d| format!(" --green-kubo {}", d.display()))
+                .collect::<String>(),
         args.out.display()
     );
     s.push_str(

@@ -10,6 +10,7 @@ use sim::sampling::green_kubo::{equilibrium_viscosity, GreenKuboRun};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
+use surrogate::rheology::relaxation_fit::Relaxation;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -76,6 +77,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     eprintln!();
     let eta = scene.file.fluid.eta;
     let tau_b = scene.thermal.map_or(f64::NAN, |t| t.tau_b);
+    let relaxation = Relaxation::fit(&gk.lags, &gk.running)?;
+    // The limit's error: the integral's, scaled by limit / integral (the blocks are not
+    // fitted one by one).
+    let limit_se = gk.viscosity_se * (relaxation.limit / gk.viscosity).abs();
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let mut csv = String::from("lag,lag_tau_b,correlation,running_eta_over_eta\n");
@@ -91,6 +96,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "tau_b": tau_b,
         "eta_brownian_over_eta": gk.viscosity / eta,
         "eta_brownian_over_eta_se": gk.viscosity_se / eta,
+        "extrapolated_eta_brownian_over_eta": relaxation.limit / eta,
+        "extrapolated_eta_brownian_over_eta_se": limit_se / eta,
+        "relaxation_tau_b": relaxation.time / tau_b,
         "blocks": gk.blocks,
         "warmup_tau_b": args.warmup,
         "span_tau_b": args.span,
@@ -101,14 +109,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     write_atomic(&written[1], serde_json::to_string_pretty(&json)?.as_bytes())?;
     println!(
         "Green-Kubo Brownian viscosity of {} (N = {}, phi = {:.4}): eta_B / eta = {:.3} +- {:.3} \
-         (integral to {} tau_B over {} tau_B)",
+         (integral to {} tau_B over {} tau_B); extrapolated as eta_inf (1 - exp(-s/tau)): \
+         {:.3} +- {:.3}, tau = {:.2} tau_B",
         scene.file.name,
         scene.n_particles(),
         scene.phi_actual,
         gk.viscosity / eta,
         gk.viscosity_se / eta,
         args.max_lag,
-        args.span
+        args.span,
+        relaxation.limit / eta,
+        limit_se / eta,
+        relaxation.time / tau_b
     );
     eprintln!("wrote {}", args.out.display());
     Ok(())

@@ -10,4 +10,5 @@ pub mod ensemble;
 pub mod flow_curve_fit;
 pub mod jamming_law;
 pub mod local_rheology;
+pub mod relaxation_fit;
 pub mod statistics;

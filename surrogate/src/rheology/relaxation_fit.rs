@@ -32,7 +32,7 @@ impl Relaxation {
     /// between the first lag and 100 times the last (a relaxation slower than that is
     /// not resolved by the data).
     pub fn fit(lags: &[f64], running: &[f64]) -> Result<Relaxation> {
-        if lags.len() < 3 || lags.len() != running.len() || !(lags[1] > 0.0) {
+        if lags.len() < 3 || lags.len() != running.len() || lags[1].is_nan() || lags[1] <= 0.0 {
             return Err(SurrogateError::InvalidArgument(format!(
                 "a relaxation fit needs three or more ascending lags with their running \
                  integral, got {} lags and {} values",

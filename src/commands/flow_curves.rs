@@ -597,12 +597,11 @@ fn summary_text(
         s,
         "Bidisperse spheres sheared between Lees-Edwards images \
          (docs/physics.md sections 10 and 11), {} runs of `{}`. Produced by\n\n```\n\
-         suspflow generate {} --out {}/bins.csv --work {} --jobs 2 --threads 1\n\
+         suspflow generate {} --out DATASET.csv --work {} --jobs 2 --threads 1\n\
          suspflow flow-curves {} --runs {}{} --out {}\n```\n",
         points.len(),
         args.grid.display(),
         args.grid.display(),
-        args.out.display(),
         args.runs.display(),
         args.grid.display(),
         args.runs.display(),

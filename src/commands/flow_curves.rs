@@ -617,7 +617,7 @@ fn summary_text(
     );
     s.push_str(
         "Per state and volume fraction, the mean over seeds (standard error from their \
-         spread); `eta_r` of the pair stresslets over the box (contact + hydrodynamic, i.e. \
+         spread; a single run's own batch-means error when there is one seed); `eta_r` of the pair stresslets over the box (contact + hydrodynamic, i.e. \
          lubrication), of the bins' `sigma_xy` (the scene's stress convention), the parts, \
          and the structural Brownian stress (thesis eq 3.54) beside them:\n\n\
          | state | phi | seeds | eta_r (pairs) | eta_r (bins) | contact | hydrodynamic | drag | structural Brownian | seeds' law | pairs / law | mu | J |\n\
@@ -630,24 +630,28 @@ fn summary_text(
             if sel.is_empty() {
                 continue;
             }
-            let col = |f: &dyn Fn(&FlowPoint) -> f64| {
-                mean_and_standard_error(&sel.iter().map(|p| f(p)).collect::<Vec<_>>())
+            // The mean over seeds with the standard error from their spread; a single run
+            // with its own batch-means error.
+            let col = |f: &dyn Fn(&FlowPoint) -> (f64, f64)| match sel.as_slice() {
+                [one] => f(one),
+                _ => mean_and_standard_error(&sel.iter().map(|p| f(p).0).collect::<Vec<_>>()),
             };
+            let estimate = |e: Estimate| (e.mean, e.se);
             let show = |(m, se): (f64, f64)| format!("{m:.2} ± {se:.2}");
-            let phi = col(&|p| p.summary.phi_actual).0;
-            let (eta, eta_se) = col(&|p| p.rheology.eta_r.mean);
+            let phi = col(&|p| (p.summary.phi_actual, 0.0)).0;
+            let (eta, eta_se) = col(&|p| estimate(p.rheology.eta_r));
             let parts: Vec<String> = (0..PARTS.len())
-                .map(|q| show(col(&|p| p.parts[q].0)))
+                .map(|q| show(col(&|p| p.parts[q])))
                 .collect();
-            let (mu, mu_se) = col(&|p| p.rheology.mu.mean);
-            let (j, j_se) = col(&|p| p.rheology.j.mean);
+            let (mu, mu_se) = col(&|p| estimate(p.rheology.mu));
+            let (j, j_se) = col(&|p| estimate(p.rheology.j));
             let law = SEEDS_LAW.eta_r(phi);
             let _ = writeln!(
                 s,
                 "| {} | {phi:.4} | {} | {eta:.2} ± {eta_se:.2} | {} | {} | {:.2} | {:.2} | {mu:.3} ± {mu_se:.3} | {j:.4} ± {j_se:.4} |",
                 f.state.label(),
                 sel.len(),
-                show(col(&|p| p.eta_r_bins.0)),
+                show(col(&|p| p.eta_r_bins)),
                 parts.join(" | "),
                 law,
                 eta / law

@@ -357,12 +357,9 @@ pub fn run(
     loop {
         while st.steps_into_sample < steps_per_sample {
             let chunk = (steps_per_sample - st.steps_into_sample).min(INTERRUPT_POLL_STEPS);
-            if sim.samples_midpoints() {
-                let pairs = &mut st.step_pairs;
-                sim.advance_observed(chunk, &mut |s| sampler.add_step_pairs(s, pairs))?;
-            } else {
-                sim.advance(chunk)?;
-            }
+            // Only the implicit Brownian step calls this (see `StepPairSums`).
+            let pairs = &mut st.step_pairs;
+            sim.advance_observed(chunk, &mut |s| sampler.add_step_pairs(s, pairs))?;
             st.steps_into_sample += chunk;
             if st.steps_into_sample < steps_per_sample && interrupt_requested() {
                 if let Some(path) = &opts.checkpoint {

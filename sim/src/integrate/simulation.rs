@@ -472,8 +472,9 @@ impl Simulation {
     }
 
     /// [`Self::step`], calling `at_midpoint` with the system at the midpoint of an
-    /// implicit Brownian step, its velocities the step's mean velocity `W` (see
-    /// [`Self::samples_midpoints`]); the other integrators never call it.
+    /// implicit Brownian step, its velocities the step's mean velocity `W`, where its pair
+    /// stress is sampled ([`crate::sampling::snapshot::StepPairSums`]); the other
+    /// integrators never call it.
     pub fn step_observed(
         &mut self,
         at_midpoint: &mut dyn FnMut(&Simulation),
@@ -483,13 +484,6 @@ impl Simulation {
             (Integrator::Implicit, true) => self.brownian_step(at_midpoint),
             (Integrator::Explicit, _) => self.verlet_step(),
         }
-    }
-
-    /// Whether [`Self::step_observed`] shows the steps' midpoints: the implicit step of a
-    /// Brownian scene, whose pair stress is then sampled there, step by step
-    /// ([`crate::sampling::snapshot::StepPairSums`]).
-    pub fn samples_midpoints(&self) -> bool {
-        self.timestep.integrator == Integrator::Implicit && self.thermal.is_some()
     }
 
     /// One implicit step (docs/physics.md section 5): drift with the last velocities,

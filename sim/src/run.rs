@@ -289,6 +289,7 @@ pub fn run(
     progress: &mut dyn FnMut(&Progress, &Simulation),
 ) -> Result<RunOutcome, SimError> {
     crate::input::scene_limits::check_driven(&scene.file)?;
+    crate::input::memory_estimate::check_fits_here(scene)?;
     let started = Instant::now();
     let interrupt_requested = || opts.interrupt.is_some_and(|f| f.load(Ordering::SeqCst));
     let resume_from = opts

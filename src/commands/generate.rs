@@ -128,6 +128,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         for w in &gs.scene.warnings {
             eprintln!("warning: {}: {w}", gs.label());
         }
+        sim::input::memory_estimate::check_fits_here(&gs.scene).with_context(|| gs.label())?;
     }
     if args.check {
         print_check(&scenes);

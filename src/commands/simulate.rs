@@ -199,6 +199,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// Derived quantities of a valid scene.
 fn print_check(scene: &Scene) -> anyhow::Result<()> {
     sim::input::scene_limits::check_driven(&scene.file)?;
+    sim::input::memory_estimate::check_fits_here(scene)?;
     let t = scene.timestep;
     let r = &scene.file.run;
     let cost = RunCost::new(scene);

@@ -582,21 +582,6 @@ impl Scene {
         let n_total = (p.phi * volume / mean_particle_volume).round() as usize;
         let memory_bytes =
             memory_estimate::run_bytes(n_total, [b.l_x, b.l_y, b.l_z], interaction_range + r.skin);
-        if let Some(machine) = memory_estimate::physical_bytes().filter(|&m| memory_bytes > m) {
-            return Err(SimError::field(
-                "box",
-                format!(
-                    "{n_total} particles (phi = {} in a box of {} x {} x {}) need about {} of \
-                     memory, more than this machine's {}; use a smaller box",
-                    p.phi,
-                    b.l_x,
-                    b.l_y,
-                    b.l_z,
-                    memory_estimate::describe(memory_bytes),
-                    memory_estimate::describe(machine)
-                ),
-            ));
-        }
         let mut counts: Vec<usize> = fractions
             .iter()
             .map(|x| (x * n_total as f64).round() as usize)

@@ -24,7 +24,12 @@ pub fn shared_rows(training: &Samples, validation: &Samples) -> usize {
 /// A warning if `validation` (the rows of `data` that `model`'s mapping reads) is, or
 /// overlaps, the data `model` was trained on (the file its sidecar names, when it still
 /// holds the recorded bytes); `None` when they are disjoint or the training file is gone.
-pub fn warning(model: &TrainedModel, data: &Dataset, validation: &Samples) -> Option<String> {
+pub fn warning(
+    model: &TrainedModel,
+    models: &std::path::Path,
+    data: &Dataset,
+    validation: &Samples,
+) -> Option<String> {
     let meta = model.meta();
     let recorded = &meta.training_data;
     if format!("{:016x}", data.fingerprint()) == recorded.fnv1a_64 {
@@ -36,7 +41,7 @@ pub fn warning(model: &TrainedModel, data: &Dataset, validation: &Samples) -> Op
             recorded.source
         ));
     }
-    let training = Dataset::read_csv(&recorded.source)
+    let training = Dataset::read_csv(meta.training_file(models))
         .ok()
         .filter(|t| format!("{:016x}", t.fingerprint()) == recorded.fnv1a_64)?;
     let mapping = surrogate::Mapping::by_name(&meta.mapping).ok()?;

@@ -290,6 +290,32 @@ fn golden_run(scene: &str, golden: &str, dt_limit: &str) {
         !out.status.success() && stderr.contains("a finished run?"),
         "{stderr}"
     );
+    // `conventions WORK/*` of a work directory: a lock file and a folder without a run beside
+    // the run are skipped with a note (issue 31, 16.17); a file alone is refused as a file.
+    let lock = temp_dir("conventions-lock");
+    std::fs::create_dir_all(&lock).unwrap();
+    let lock_file = lock.join("generate.lock");
+    std::fs::write(&lock_file, "").unwrap();
+    let out = suspflow(&[
+        "conventions",
+        out_dir.to_str().unwrap(),
+        lock_file.to_str().unwrap(),
+        empty.to_str().unwrap(),
+    ]);
+    assert_ok(&out);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("skipping") && stderr.contains("generate.lock: a file, not a run folder"),
+        "{stderr}"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains(&format!("| {scene} | 8 |")));
+    let out = suspflow(&["conventions", lock_file.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("generate.lock is a file, not a run folder"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&lock).ok();
     std::fs::remove_dir_all(&empty).ok();
     std::fs::remove_dir_all(&out_dir).ok();
 }

@@ -195,3 +195,30 @@ fn a_solve_beyond_the_training_data_flags_its_bins() {
     }
     std::fs::remove_dir_all(&out).ok();
 }
+
+/// The learned closure finds the training file its sidecar names from the models' folder,
+/// whatever the current directory (issue 31, 16.16: it was read from the current one).
+#[test]
+fn solve_finds_the_training_data_from_any_directory() {
+    let out = scratch("any-dir");
+    std::fs::create_dir_all(&out).unwrap();
+    let scene = out.join("scene.toml");
+    std::fs::write(&scene, TRAINING_LIKE).unwrap();
+    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+    for (cwd, models_arg) in [(models.as_path(), "."), (out.as_path(), s(&models))] {
+        let result = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+            .args(["solve", s(&scene), "--models", models_arg, "--out"])
+            .arg(out.join("solution"))
+            .arg("--force")
+            .current_dir(cwd)
+            .output()
+            .unwrap();
+        assert!(
+            result.status.success(),
+            "from {}: {}",
+            cwd.display(),
+            String::from_utf8_lossy(&result.stderr)
+        );
+    }
+    std::fs::remove_dir_all(&out).ok();
+}

@@ -883,7 +883,7 @@ fn bad_surrogate_inputs_give_clear_errors() {
     .unwrap();
     let err = suspflow_err(&["validate", "--models", s(&models), "--data", s(&good_path)]);
     assert!(
-        err.contains("feature mismatch") && err.contains("dv.meta.json"),
+        err.contains("dv.meta.json lists features [J, Theta, phi], mapping `dv` now has [J, Delta_v, phi]: missing Delta_v; extra Theta"),
         "{err}"
     );
     // --train that is not the training data.
@@ -921,6 +921,54 @@ fn bad_surrogate_inputs_give_clear_errors() {
         s(&hole),
     ]);
     assert!(err.contains("data row 6, column `J` is empty"), "{err}");
+    // A value beyond f32 (the models' type) is named by column, line and value (issue 31,
+    // 16.11), in predict and in validate.
+    let big = write(
+        &dir,
+        "big.csv",
+        "scene_id,phi,J,phi_loc\ns0,0.5,0.001,0.5\ns0,0.5,1e39,0.5\n",
+    );
+    let err = suspflow_err(&[
+        "predict",
+        "--model",
+        s(&models.join("mu")),
+        "--input",
+        s(&big),
+    ]);
+    assert!(
+        err.contains("big.csv: line 3 (data row 2), column `J`: 1e39 exceeds the f32 range"),
+        "{err}"
+    );
+    // A tree file cut in half is named as such by both model readers, without XGBoost's
+    // stack trace (16.14).
+    let trees = models.join("mu.json");
+    let whole = std::fs::read(&trees).unwrap();
+    std::fs::write(&trees, &whole[..whole.len() / 2]).unwrap();
+    for args in [
+        vec![
+            "predict",
+            "--model",
+            s(&models.join("mu")),
+            "--input",
+            s(&good_path),
+        ],
+        vec![
+            "validate",
+            "--models",
+            s(&models),
+            "--data",
+            s(&good_path),
+            "--mapping",
+            "mu",
+        ],
+    ] {
+        let err = suspflow_err(&args);
+        assert!(
+            err.contains("mu.json: ends in the middle of its JSON") && !err.contains("[bt]"),
+            "{args:?}: {err}"
+        );
+    }
+    std::fs::write(&trees, &whole).unwrap();
     std::fs::remove_dir_all(&dir).ok();
 }
 

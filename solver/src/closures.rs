@@ -10,7 +10,7 @@ use crate::theta_balance::{ThetaBalance, ThetaBalanceFit};
 use ndarray::Array2;
 use schema::columns as col;
 use schema::Observable;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use surrogate::{Dataset, DomainCheck, LocalRheology, Mapping, Predictor, Samples, TrainingDomain};
 
 /// Which closure a solve uses (its discriminant indexes [`ClosureKind::ALL`]).
@@ -65,15 +65,17 @@ pub struct Closures {
 }
 
 impl Closures {
-    /// The closures of the `dv` and `theta` models in `models`, with the local law and the
-    /// Theta balance fitted on `train` (by default the `dv` model's training data: the path
-    /// its sidecar names, from the current directory, or else from the folder holding
-    /// `models`).
+    /// The closures of the `dv` and `theta` models in `models`, with the local law, its
+    /// training domain and the Theta balance fitted on `train` (by default the `dv` model's
+    /// training data, the file its sidecar names, found from the models' folder as
+    /// [`surrogate::ModelMeta::training_file`] says, whatever the current directory). Every
+    /// closure needs it: the local law is the local closure and the start of the learned and
+    /// nonlocal closures' continuation, the Theta balance the nonlocal closure's.
     pub fn load(models: &Path, train: Option<&Path>) -> Result<Closures> {
         let dv = Predictor::load(models, "dv")?;
         let train = train
             .map(Path::to_path_buf)
-            .unwrap_or_else(|| training_data(models, &dv));
+            .unwrap_or_else(|| dv.meta().training_file(models));
         let train_data = Dataset::read_csv(&train)?;
         let theta_fit = ThetaBalance::fit(&train_data)?;
         let theta = Predictor::load(models, "theta")?;
@@ -131,16 +133,5 @@ impl Closures {
             .collect::<Result<Vec<_>>>()?;
         let rows = Array2::from_shape_fn((s.j.len(), columns.len()), |(k, f)| columns[f][k]);
         Ok(domain.check(rows.view())?)
-    }
-}
-
-/// The `dv` model's training data: the path its sidecar names, taken from the current
-/// directory, or else from the folder holding `models` (a script run outside the
-/// repository that names `REPO/models`).
-fn training_data(models: &Path, predictor: &Predictor) -> PathBuf {
-    let source = PathBuf::from(&predictor.meta().training_data.source);
-    match models.parent() {
-        Some(repo) if source.is_relative() && !source.exists() => repo.join(source),
-        _ => source,
     }
 }

@@ -16,9 +16,49 @@ use surrogate::median;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Result directories, each holding the `snapshot_sums.json` of a finished run.
+    /// Result directories, each holding the `snapshot_sums.json` of a finished run. Of
+    /// several (`WORK/*` of a generate work directory), files and folders without that file
+    /// (`generate.lock`, a failed run) are skipped with a note; one alone must be a run.
     #[arg(required = true)]
     dirs: Vec<PathBuf>,
+}
+
+/// The run folders among `paths`: all of them when there is one (the reader then names what
+/// is wrong with it); of several, those holding snapshot sums, the others (files such as
+/// `generate.lock`, folders of failed or unfinished runs) skipped with a note. A path that
+/// does not exist is an error either way, and so is a list without any run.
+fn run_folders(paths: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    if let Some(missing) = paths.iter().find(|p| !p.exists()) {
+        anyhow::bail!("{} does not exist", missing.display());
+    }
+    if let [one] = paths {
+        if !one.is_dir() {
+            anyhow::bail!(
+                "{} is a file, not a run folder (the --out of `suspflow simulate`, or a scene \
+                 folder of a `suspflow generate` work directory)",
+                one.display()
+            );
+        }
+        return Ok(vec![one.clone()]);
+    }
+    let (runs, others): (Vec<&PathBuf>, Vec<&PathBuf>) = paths
+        .iter()
+        .partition(|p| p.is_dir() && p.join(SNAPSHOT_SUMS).is_file());
+    for other in &others {
+        let what = if other.is_dir() {
+            format!("a folder without {SNAPSHOT_SUMS} (a failed or unfinished run?)")
+        } else {
+            "a file, not a run folder".to_owned()
+        };
+        eprintln!("note: skipping {}: {what}", other.display());
+    }
+    if runs.is_empty() {
+        anyhow::bail!(
+            "none of the {} paths is a finished run (a folder holding {SNAPSHOT_SUMS})",
+            paths.len()
+        );
+    }
+    Ok(runs.into_iter().cloned().collect())
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -27,7 +67,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "| run | bins | sigma_yy chi2 | max abs z of sigma_yy | balance residual, bin stress | balance residual, face forces |\n\
          |---|---|---|---|---|---|\n",
     );
-    for dir in &args.dirs {
+    let dirs = run_folders(&args.dirs)?;
+    for dir in &dirs {
         let path = dir.join(SNAPSHOT_SUMS);
         let text = std::fs::read_to_string(&path).with_context(|| {
             format!(
@@ -73,7 +114,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let mut table = format!(
         "Relative difference from the default, median / max over {} runs' bins:\n\n| option |",
-        args.dirs.len()
+        dirs.len()
     );
     for name in COMPARED {
         let _ = write!(table, " {name} |");

@@ -42,8 +42,10 @@ pub struct Args {
     /// balance l^2 Theta'' = Theta - c J^beta).
     #[arg(long, default_value = "learned", value_parser = parse_closure)]
     closure: ClosureKind,
-    /// Training dataset the local rheology and the Theta balance are fitted on (default: the
-    /// `dv` model's own).
+    /// Training dataset of the fits every closure uses: the local rheology (the local closure,
+    /// and the start of the learned and nonlocal closures' continuation) with its training
+    /// domain, and the Theta balance (the nonlocal closure). Default: the file the `dv`
+    /// model's sidecar names, relative to the folder holding --models (so from any directory).
     #[arg(long)]
     train: Option<PathBuf>,
     /// Output directory for profile.csv and summary.json.
@@ -183,13 +185,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// A learned solve that stalls is an error that points to the local closure.
+/// A solve that stalls is an error that points to the other closures (never to the one that
+/// failed): each is a different model of the same flow.
 fn with_hint(e: SolverError, closure: ClosureKind) -> anyhow::Error {
     match e {
-        SolverError::NotConverged { .. } | SolverError::ContinuationStalled { .. }
-            if closure != ClosureKind::Local =>
-        {
-            anyhow::anyhow!("{e} (try --closure local)")
+        SolverError::NotConverged { .. } | SolverError::ContinuationStalled { .. } => {
+            let others: Vec<String> = ClosureKind::ALL
+                .into_iter()
+                .filter(|&kind| kind != closure)
+                .map(|kind| format!("--closure {}", kind.name()))
+                .collect();
+            anyhow::anyhow!("{e} (try {})", others.join(" or "))
         }
         e => e.into(),
     }
@@ -340,4 +346,33 @@ fn compare(
     profile_panels(&figure, &title, &panels)?;
     println!("figure: {}", figure.display());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use solver::Stall;
+
+    #[test]
+    fn a_stalled_solve_suggests_every_other_closure_and_never_its_own() {
+        for closure in ClosureKind::ALL {
+            let stalled = SolverError::NotConverged {
+                stall: Stall::SingularJacobian,
+                iterations: 3,
+                residual: 1.0,
+                tolerance: 1e-8,
+            };
+            let message = with_hint(stalled, closure).to_string();
+            for kind in ClosureKind::ALL {
+                let hint = format!("--closure {}", kind.name());
+                assert_eq!(
+                    message.contains(&hint),
+                    kind != closure,
+                    "{closure:?}: {message}"
+                );
+            }
+        }
+        let other = with_hint(SolverError::InvalidArgument("x".into()), ClosureKind::Local);
+        assert!(!other.to_string().contains("--closure"), "{other}");
+    }
 }

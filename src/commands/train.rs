@@ -11,7 +11,8 @@ use anyhow::Context;
 use std::path::PathBuf;
 use std::time::Instant;
 use surrogate::{
-    standard_grid, Dataset, HyperParameters, Mapping, Samples, TableKind, TrainedModel, Tuning,
+    standard_grid, Dataset, HyperParameters, Mapping, ModelMeta, Samples, TableKind, TrainedModel,
+    Tuning,
 };
 
 use crate::surrogate_text::{describe, errors_by_output, warn_skipped};
@@ -65,8 +66,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let started = Instant::now();
     for mapping in mappings {
-        let samples = Samples::from_dataset(&dataset, mapping)?;
+        let mut samples = Samples::from_dataset(&dataset, mapping)?;
         warn_skipped(mapping, &samples);
+        // The sidecar names the data as the loaders look for it: from the folder holding
+        // --out, whatever the directory train ran in (ModelMeta::training_file).
+        samples.source_name = ModelMeta::recorded_source(&args.data, &args.out);
         let params = if args.no_tune {
             remove_stale_tuning(&args.out, mapping)?;
             HyperParameters::default()

@@ -70,7 +70,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let validation = Validation::run(&model, &data)
             .with_context(|| format!("validating model `{}`", mapping.name))?;
         warn_skipped(mapping, &validation.samples);
-        if let Some(warning) = training_overlap::warning(&model, &data, &validation.samples) {
+        if let Some(warning) =
+            training_overlap::warning(&model, &args.models, &data, &validation.samples)
+        {
             eprintln!("warning: {warning}");
         }
         checked.push(Checked {
@@ -204,7 +206,7 @@ fn print_errors(c: &Checked) {
 /// record's cross-validated errors.
 fn print_comparison(c: &Checked, train: Option<&Path>, models: &Path) -> anyhow::Result<()> {
     let meta = c.model.meta();
-    let Some(training) = training_samples(c, train)? else {
+    let Some(training) = training_samples(c, train, models)? else {
         return Ok(());
     };
     let outputs = c.mapping.outputs;
@@ -269,9 +271,13 @@ fn contender_label(contender: &Contender) -> String {
 /// The mapping's rows of its training data: `--train`, or the file the sidecar names. `None`
 /// (with a note) when the sidecar's file is gone or changed; an error when `--train` is not
 /// the data the model was trained on.
-fn training_samples(c: &Checked, train: Option<&Path>) -> anyhow::Result<Option<Samples>> {
+fn training_samples(
+    c: &Checked,
+    train: Option<&Path>,
+    models: &Path,
+) -> anyhow::Result<Option<Samples>> {
     let recorded = &c.model.meta().training_data;
-    let path = train.map_or_else(|| PathBuf::from(&recorded.source), Path::to_path_buf);
+    let path = train.map_or_else(|| c.model.meta().training_file(models), Path::to_path_buf);
     let samples = Dataset::read_csv(&path).and_then(|data| Samples::from_dataset(&data, c.mapping));
     let problem = match &samples {
         Ok(s) if format!("{:016x}", s.source_fingerprint) == recorded.fnv1a_64 => None,

@@ -39,6 +39,16 @@ pub enum SurrogateError {
         value: f64,
     },
 
+    /// A finite value too large for f32, the element type the models read their inputs in.
+    /// `place` is "line L (data row R)" for a table, "row R" for a matrix.
+    #[error("{source_name}: {place}, column `{column}`: {value:e} exceeds the f32 range of the models' inputs (|x| <= 3.4e38)")]
+    BeyondF32 {
+        source_name: String,
+        place: String,
+        column: String,
+        value: f64,
+    },
+
     /// A value that no flow can have (negative J, phi = 2, ...; see
     /// [`crate::data::physical_range::measured_range`]).
     #[error("{source_name}: data row {row}, column `{column}`: {value} is not physical ({range})")]
@@ -76,13 +86,10 @@ pub enum SurrogateError {
         found: usize,
     },
 
-    /// The input does not carry the features a model was trained on, or a model's parts disagree.
-    #[error("feature mismatch: {detail}; the model expects features [{}], the input has [{}]", expected.join(", "), found.join(", "))]
-    FeatureMismatch {
-        detail: String,
-        expected: Vec<String>,
-        found: Vec<String>,
-    },
+    /// The input does not carry the features a model was trained on, or a model's parts
+    /// disagree on its columns; `detail` says what differs ([`name_differences`]).
+    #[error("{detail}")]
+    FeatureMismatch { detail: String },
 
     /// Two arrays that must have the same shape do not.
     #[error("shape mismatch in {what}: expected {expected:?}, found {found:?}")]
@@ -104,8 +111,9 @@ pub enum SurrogateError {
     #[error("XGBoost: {0}")]
     Xgboost(String),
 
-    /// An XGBoost JSON model lacks a field this crate reads.
-    #[error("unexpected XGBoost JSON model: {0}")]
+    /// An XGBoost JSON model file that cannot be read, or holds what this crate does not
+    /// read; the message names the file.
+    #[error("{0}")]
     ModelFormat(String),
 
     /// A linear baseline could not be fitted.
@@ -126,7 +134,12 @@ pub enum SurrogateError {
         source: csv::Error,
     },
 
-    /// A JSON file is malformed or cannot be written.
+    /// A file that cannot be read as what it should hold (empty, truncated, not JSON, JSON
+    /// of another shape); `detail` says which.
+    #[error("{}: {detail}", path.display())]
+    UnreadableFile { path: PathBuf, detail: String },
+
+    /// A JSON file cannot be written.
     #[error("{}: {source}", path.display())]
     Json {
         path: PathBuf,
@@ -134,5 +147,57 @@ pub enum SurrogateError {
     },
 }
 
+/// How the list of names `found` differs from `expected`: the names missing from it, those
+/// it has besides, or, with the same names, the order of both; empty when they are equal.
+pub fn name_differences<A: AsRef<str>, B: AsRef<str>>(expected: &[A], found: &[B]) -> String {
+    let expected: Vec<&str> = expected.iter().map(AsRef::as_ref).collect();
+    let found: Vec<&str> = found.iter().map(AsRef::as_ref).collect();
+    let missing: Vec<&str> = expected
+        .iter()
+        .filter(|e| !found.contains(e))
+        .copied()
+        .collect();
+    let extra: Vec<&str> = found
+        .iter()
+        .filter(|f| !expected.contains(f))
+        .copied()
+        .collect();
+    let mut parts = Vec::new();
+    if !missing.is_empty() {
+        parts.push(format!("missing {}", missing.join(", ")));
+    }
+    if !extra.is_empty() {
+        parts.push(format!("extra {}", extra.join(", ")));
+    }
+    if parts.is_empty() && expected != found {
+        if expected.len() == found.len() {
+            parts.push("the same names in another order".to_owned());
+        } else {
+            parts.push("a name repeated".to_owned());
+        }
+    }
+    parts.join("; ")
+}
+
 /// Result type of this crate.
 pub type Result<T> = std::result::Result<T, SurrogateError>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn name_differences_say_what_is_missing_extra_or_reordered() {
+        assert_eq!(name_differences(&["a", "b"], &["a", "b"]), "");
+        assert_eq!(
+            name_differences(&["J", "Delta_v", "phi"], &["J", "phi_loc", "phi"]),
+            "missing Delta_v; extra phi_loc"
+        );
+        assert_eq!(name_differences(&["a", "b"], &["a"]), "missing b");
+        assert_eq!(
+            name_differences(&["phi_loc", "mu"], &["mu", "phi_loc"]),
+            "the same names in another order"
+        );
+        assert_eq!(name_differences(&["a"], &["a", "a"]), "a name repeated");
+    }
+}

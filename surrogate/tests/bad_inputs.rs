@@ -302,3 +302,206 @@ fn xgboost_refusal_carries_the_library_message() {
         "{error}"
     );
 }
+
+#[test]
+fn a_value_beyond_f32_names_its_line_column_and_value_in_every_reader() {
+    // J of data row 3 (line 4) is finite in f64 but an infinity in f32, the models' type.
+    let csv = with_cell("J", 3, "1e39");
+    let data = Dataset::from_csv_bytes(csv.as_bytes(), "big.csv").unwrap();
+    let expected = "big.csv: line 4 (data row 3), column `J`: 1e39 exceeds the f32 range of the \
+                    models' inputs (|x| <= 3.4e38)";
+    // Training, validation and cross-validation read their rows as samples.
+    let error = Samples::from_dataset(&data, Mapping::by_name("mu").unwrap()).unwrap_err();
+    assert_eq!(error.to_string(), expected);
+    // Prediction reads the model's feature columns.
+    let dir = saved_models("beyond_f32", &["mu"]);
+    let model = TrainedModel::load(&dir, "mu").unwrap();
+    assert_eq!(model.predict(&data).unwrap_err().to_string(), expected);
+    let predictor = surrogate::Predictor::load(&dir, "mu").unwrap();
+    assert_eq!(predictor.predict(&data).unwrap_err().to_string(), expected);
+    // A matrix handed to the models directly is refused by its feature's name.
+    let features = ndarray::array![[0.01, 0.5, 0.5], [0.01, -4e38, 0.5]];
+    for error in [
+        model.predict_features(features.view()).unwrap_err(),
+        predictor.predict_features(features.view()).unwrap_err(),
+    ] {
+        assert_eq!(
+            error.to_string(),
+            "prediction input: row 2, column `phi_loc`: -4e38 exceeds the f32 range of the \
+             models' inputs (|x| <= 3.4e38)"
+        );
+    }
+}
+
+#[test]
+fn a_model_file_with_another_output_count_says_so_before_its_base_score() {
+    let dir = saved_models("output_count", &["theta"]);
+    let path = dir.join("theta.json");
+    let json = std::fs::read_to_string(&path).unwrap();
+    assert!(json.contains(r#""num_target":"2""#), "{json:.300}");
+    std::fs::write(
+        &path,
+        json.replace(r#""num_target":"2""#, r#""num_target":"3""#),
+    )
+    .unwrap();
+    let refusals = [
+        TrainedModel::load(&dir, "theta").unwrap_err(),
+        surrogate::Predictor::load(&dir, "theta").unwrap_err(),
+    ];
+    for error in refusals {
+        let message = error.to_string();
+        assert!(
+            message.contains(
+                "theta.json has 3 outputs (learner_model_param.num_target) where \
+                              mapping `theta` has 2 (phi_loc, mu)"
+            ) && !message.contains("base_score"),
+            "{message}"
+        );
+    }
+}
+
+/// The refusal of every loader of the model in `dir` whose trees file holds `bytes`.
+fn load_errors(dir: &std::path::Path, bytes: &[u8]) -> Vec<String> {
+    std::fs::write(dir.join("mu.json"), bytes).unwrap();
+    vec![
+        TrainedModel::load(dir, "mu").unwrap_err().to_string(),
+        surrogate::Predictor::load(dir, "mu")
+            .unwrap_err()
+            .to_string(),
+    ]
+}
+
+#[test]
+fn a_corrupt_tree_file_is_named_with_what_is_wrong_by_every_loader() {
+    let dir = saved_models("corrupt_trees", &["mu"]);
+    let good = std::fs::read(dir.join("mu.json")).unwrap();
+    let model: serde_json::Value = serde_json::from_slice(&good).unwrap();
+    let edited = |edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut m = model.clone();
+        edit(&mut m);
+        serde_json::to_vec(&m).unwrap()
+    };
+    let trees = "/learner/gradient_booster/model/trees";
+    let cases: Vec<(&str, Vec<u8>, &[&str])> = vec![
+        (
+            "empty",
+            Vec::new(),
+            &["is empty, where an XGBoost JSON model belongs"],
+        ),
+        (
+            "truncated",
+            good[..good.len() / 2].to_vec(),
+            &["ends in the middle of its JSON", "a truncated copy"],
+        ),
+        (
+            "not JSON",
+            b"<html>not a model</html>".to_vec(),
+            &["is not JSON (expected value at line 1 column 1)"],
+        ),
+        (
+            "trees removed",
+            edited(&|m| {
+                m.pointer_mut("/learner/gradient_booster/model")
+                    .unwrap()
+                    .as_object_mut()
+                    .unwrap()
+                    .remove("trees");
+            }),
+            &["is JSON but not an XGBoost JSON model: missing field `trees`"],
+        ),
+        (
+            "a tree's children removed",
+            edited(&|m| {
+                m.pointer_mut(&format!("{trees}/3"))
+                    .unwrap()
+                    .as_object_mut()
+                    .unwrap()
+                    .remove("left_children");
+            }),
+            &["missing field `left_children`"],
+        ),
+        (
+            "a whole array",
+            b"[1, 2, 3]".to_vec(),
+            &["is JSON but not an XGBoost JSON model"],
+        ),
+    ];
+    for (what, bytes, expected) in cases {
+        for message in load_errors(&dir, &bytes) {
+            assert!(
+                message.contains("mu.json")
+                    && expected.iter().all(|e| message.contains(e))
+                    && !message.contains("Stack trace")
+                    && !message.contains("Json {"),
+                "{what}: {message}"
+            );
+        }
+    }
+    // A node array cut short: each loader names the tree and the array.
+    let short = edited(&|m| {
+        m.pointer_mut(&format!("{trees}/2/left_children"))
+            .unwrap()
+            .as_array_mut()
+            .unwrap()
+            .pop();
+    });
+    for message in load_errors(&dir, &short) {
+        assert!(
+            message.contains("mu.json") && message.contains("tree 2") && !message.contains("[bt]"),
+            "{message}"
+        );
+    }
+    // A tree list shorter than num_trees (the XGBoost loader's own count).
+    let fewer = edited(&|m| {
+        m.pointer_mut(trees).unwrap().as_array_mut().unwrap().pop();
+        m.pointer_mut("/learner/gradient_booster/model/tree_info")
+            .unwrap()
+            .as_array_mut()
+            .unwrap()
+            .pop();
+    });
+    let messages = load_errors(&dir, &fewer);
+    assert!(
+        messages[0].contains("gbtree_model_param.num_trees = `100`, but it holds 99 trees"),
+        "{}",
+        messages[0]
+    );
+    assert!(
+        messages[1].contains("its trees number 99"),
+        "{}",
+        messages[1]
+    );
+    // The sidecar and the domain are named the same way.
+    std::fs::write(dir.join("mu.json"), &good).unwrap();
+    std::fs::write(dir.join("mu.meta.json"), b"").unwrap();
+    let message = TrainedModel::load(&dir, "mu").unwrap_err().to_string();
+    assert!(
+        message.contains("mu.meta.json: is empty, where a model sidecar belongs"),
+        "{message}"
+    );
+}
+
+#[test]
+fn both_tree_kinds_pass_the_check_before_xgboost() {
+    let data = synthetic_dataset(2, 10, 5);
+    for strategy in [
+        surrogate::MultiStrategy::OneOutputPerTree,
+        surrogate::MultiStrategy::MultiOutputTree,
+    ] {
+        let dir = scratch_dir(&format!("tree_kind_{strategy:?}"));
+        let params = HyperParameters {
+            n_estimators: 5,
+            multi_strategy: strategy,
+            ..HyperParameters::default()
+        };
+        let model =
+            TrainedModel::train(Mapping::by_name("theta").unwrap(), &data, &params).unwrap();
+        model.save(&dir).unwrap();
+        let loaded = TrainedModel::load(&dir, "theta").unwrap();
+        assert_eq!(
+            loaded.predict(&data).unwrap(),
+            model.predict(&data).unwrap(),
+            "{strategy:?}"
+        );
+    }
+}

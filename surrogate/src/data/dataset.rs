@@ -27,6 +27,10 @@ pub const GROUP_COLUMN: &str = schema::columns::SCENE_ID;
 /// every phi, L_y and seed), the unit that leave-one-family-out cross-validation holds out.
 pub const PROFILE_COLUMN: &str = schema::columns::PROFILE;
 
+/// The largest finite f32 (3.4e38), as f64: the models read their inputs as f32, and a
+/// value beyond it would become an infinity there.
+pub const F32_MAX: f64 = f32::MAX as f64;
+
 /// The UTF-8 byte-order mark some editors put at the start of a CSV file.
 const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 
@@ -37,6 +41,8 @@ pub struct Dataset {
     names: Vec<String>,
     columns: Vec<Column>,
     n_rows: usize,
+    /// The line of the source on which each data row starts (the header is line 1).
+    lines: Vec<u64>,
     fingerprint: u64,
 }
 
@@ -100,8 +106,10 @@ impl Dataset {
             )));
         }
         let mut cells: Vec<Vec<String>> = vec![Vec::new(); names.len()];
+        let mut lines = Vec::new();
         for (index, record) in reader.records().enumerate() {
             let record = record.map_err(csv_error)?;
+            lines.push(record.position().map_or(index as u64 + 2, |p| p.line()));
             if record.len() != names.len() {
                 return Err(SurrogateError::RaggedRow {
                     source_name: source_name.to_owned(),
@@ -125,6 +133,7 @@ impl Dataset {
             names,
             columns: cells.into_iter().map(Column::new).collect(),
             n_rows,
+            lines,
             fingerprint: fnv1a_64(bytes),
         })
     }
@@ -142,6 +151,11 @@ impl Dataset {
     /// Column names in header order.
     pub fn column_names(&self) -> &[String] {
         &self.names
+    }
+
+    /// The line of the source on which data row `row` (0-based) starts; the header is line 1.
+    pub fn line(&self, row: usize) -> u64 {
+        self.lines.get(row).copied().unwrap_or(row as u64 + 2)
     }
 
     /// FNV-1a 64 hash of the CSV bytes the dataset was read from.
@@ -219,14 +233,18 @@ impl Dataset {
         }
     }
 
-    /// The columns `names`, in that order, as a rows x columns matrix of finite numbers.
+    /// The columns `names`, in that order, as a rows x columns matrix of finite numbers
+    /// within f32's range (see [`Dataset::matrix_of_rows`]).
     pub fn matrix(&self, names: &[&str]) -> Result<Array2<f64>> {
         let all: Vec<usize> = (0..self.n_rows).collect();
         self.matrix_of_rows(names, &all)
     }
 
     /// The rows `rows` (0-based, in that order) of the columns `names` as a rows x columns
-    /// matrix of finite numbers; an empty, NaN or infinite cell is an error naming its row.
+    /// matrix of finite numbers for a model to read; an empty, NaN or infinite cell is an
+    /// error naming its row, and so is a value beyond f32's range ([`F32_MAX`]): the trees
+    /// (XGBoost's and [`crate::models::forest::Forest`]) read their inputs as f32, in which
+    /// it is an infinity.
     pub fn matrix_of_rows(&self, names: &[&str], rows: &[usize]) -> Result<Array2<f64>> {
         if let Some(&bad) = rows.iter().find(|&&row| row >= self.n_rows) {
             return Err(SurrogateError::InvalidArgument(format!(
@@ -250,6 +268,14 @@ impl Dataset {
                     return Err(SurrogateError::NonFinite {
                         source_name: self.source_name.clone(),
                         row: row + 1,
+                        column: name.to_owned(),
+                        value,
+                    });
+                }
+                if value.abs() > F32_MAX {
+                    return Err(SurrogateError::BeyondF32 {
+                        source_name: self.source_name.clone(),
+                        place: format!("line {} (data row {})", self.line(row), row + 1),
                         column: name.to_owned(),
                         value,
                     });

@@ -14,8 +14,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::data::files;
 use crate::error::{Result, SurrogateError};
+use crate::models::f32_input::to_f32;
 use crate::models::forest::Forest;
-use crate::models::xgboost_json::ShapeJson;
+use crate::models::xgboost_json::{LoaderJson, ShapeJson};
 
 /// How a booster with several outputs grows its trees (XGBoost's `multi_strategy`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -142,7 +143,10 @@ impl From<xgb::XGBError> for SurrogateError {
     fn from(e: xgb::XGBError) -> Self {
         let message = e.to_string();
         let message = message.strip_prefix("XGBoost error: ").unwrap_or(&message);
-        SurrogateError::Xgboost(message.to_owned())
+        // The library appends its C++ stack trace ("Stack trace:\n  [bt] (0) ..."), which says
+        // nothing to a user; the first lines are its message.
+        let message = message.split("Stack trace:").next().unwrap_or(message);
+        SurrogateError::Xgboost(message.trim_end().to_owned())
     }
 }
 
@@ -176,11 +180,11 @@ impl Booster {
             )));
         }
         let mut dtrain = xgb::DMatrix::from_dense(
-            &finite_f32(features, "training features")?,
+            &to_f32(features, "training features", feature_names)?,
             features.nrows(),
         )?;
         // Row-major rows x outputs: XGBoost takes the number of targets from the label count.
-        dtrain.set_labels(&finite_f32(labels, "training labels")?)?;
+        dtrain.set_labels(&to_f32::<&str>(labels, "training labels", &[])?)?;
         // `xgb` first applies its own parameter defaults; every setting that matters is
         // overridden right after.
         let mut inner = xgb::Booster::new_with_cached_dmats(&Default::default(), &[&dtrain])?;
@@ -223,7 +227,10 @@ impl Booster {
         if n_rows == 0 {
             return Ok(Array2::zeros((0, self.n_outputs)));
         }
-        let dmatrix = xgb::DMatrix::from_dense(&finite_f32(features, "prediction input")?, n_rows)?;
+        let dmatrix = xgb::DMatrix::from_dense(
+            &to_f32(features, "prediction input", &self.feature_names)?,
+            n_rows,
+        )?;
         let config = xgb::PredictConfig {
             strict_shape: true,
             ..Default::default()
@@ -253,14 +260,31 @@ impl Booster {
     /// loaded booster predicts on one thread: inputs here are profiles of tens of rows, for
     /// which starting a team of threads costs more than it saves.
     pub fn load_json(path: &Path) -> Result<Self> {
-        let json = files::read(path)?;
-        let model: ShapeJson = files::parse_json(path, &json)?;
-        let (n_features, n_outputs) = model
+        Self::from_json(&files::read(path)?, path)
+    }
+
+    /// [`Booster::load_json`] of the bytes read from `path`. The file is checked before
+    /// XGBoost sees it ([`LoaderJson`]: JSON, the fields and node arrays its loader reads),
+    /// so that a truncated or edited file is named with what is wrong rather than met by the
+    /// library's exception.
+    pub fn from_json(json: &[u8], path: &Path) -> Result<Self> {
+        let unreadable = |detail: String| SurrogateError::UnreadableFile {
+            path: path.to_path_buf(),
+            detail,
+        };
+        let shape: ShapeJson = files::parse_json(path, json, "an XGBoost JSON model")?;
+        let loader: LoaderJson = files::parse_json(path, json, "an XGBoost JSON model")?;
+        if let Some(problem) = loader.problem() {
+            return Err(unreadable(format!(
+                "is not a whole XGBoost tree model: {problem}"
+            )));
+        }
+        let (n_features, n_outputs) = shape
             .learner
             .learner_model_param
             .counts(&path.display().to_string())?;
-        let feature_names = model.learner.feature_names;
-        let mut inner = xgb::Booster::load_buffer(&json)?;
+        let feature_names = shape.learner.feature_names;
+        let mut inner = xgb::Booster::load_buffer(json)?;
         inner.set_param("nthread", "1")?;
         Ok(Booster {
             inner,
@@ -297,27 +321,4 @@ pub fn xgboost_version() -> String {
     // SAFETY: XGBoostVersion only writes one int through each of the three valid pointers.
     unsafe { xgboost_lib_sys::XGBoostVersion(&mut major, &mut minor, &mut patch) };
     format!("{major}.{minor}.{patch}")
-}
-
-/// `values` in row-major order as f32 (XGBoost's element type), refusing values that are not
-/// finite in f32: XGBoost would silently take NaN for "missing".
-fn finite_f32(values: ArrayView2<f64>, what: &str) -> Result<Vec<f32>> {
-    let ncols = values.ncols().max(1);
-    values
-        .iter()
-        .enumerate()
-        .map(|(i, &v)| {
-            let single = v as f32;
-            if single.is_finite() {
-                Ok(single)
-            } else {
-                Err(SurrogateError::NonFinite {
-                    source_name: what.to_owned(),
-                    row: i / ncols + 1,
-                    column: format!("#{}", i % ncols + 1),
-                    value: v,
-                })
-            }
-        })
-        .collect()
 }

@@ -14,6 +14,7 @@
 use ndarray::{Array2, ArrayView2};
 
 use crate::error::{Result, SurrogateError};
+use crate::models::f32_input::to_f32;
 use crate::models::xgboost_json::{ModelJson, TreeJson};
 
 /// The trees of one model.
@@ -56,10 +57,15 @@ impl Forest {
     /// (`multi_output_tree`), and node arrays that do not form trees (a child that is not
     /// after its parent, an index out of range).
     pub fn from_json(bytes: &[u8], source: &str) -> Result<Self> {
-        let format_error =
+        let unreadable =
             |detail: String| SurrogateError::ModelFormat(format!("{source}: {detail}"));
-        let model: ModelJson =
-            serde_json::from_slice(bytes).map_err(|e| format_error(e.to_string()))?;
+        let format_error = |detail: String| {
+            SurrogateError::ModelFormat(format!(
+                "{source} is not an XGBoost model this crate reads: {detail}"
+            ))
+        };
+        let model: ModelJson = crate::data::files::parse_json_bytes(bytes, "an XGBoost JSON model")
+            .map_err(unreadable)?;
         let learner = model.learner;
         if learner.objective.name != "reg:squarederror" {
             return Err(format_error(format!(
@@ -69,8 +75,7 @@ impl Forest {
         }
         let shape = &learner.learner_model_param;
         let (n_features, n_outputs) = shape.counts(source)?;
-        let base_score = parse_base_score(&shape.base_score, n_outputs)
-            .ok_or_else(|| format_error(format!("base_score `{}`", shape.base_score)))?;
+        let base_score = parse_base_score(&shape.base_score, n_outputs).map_err(format_error)?;
         let forest = learner.gradient_booster.model;
         if forest.tree_info.len() != forest.trees.len() {
             return Err(format_error(format!(
@@ -131,24 +136,13 @@ impl Forest {
                 found: features.dim(),
             });
         }
+        let values = to_f32(features, "prediction input", &self.feature_names)?;
         let mut predicted = Array2::zeros((features.nrows(), self.n_outputs()));
-        let mut row = vec![0.0_f32; self.n_features];
         let mut sums = self.base_score.clone();
-        for (i, values) in features.rows().into_iter().enumerate() {
-            for (j, (x, &value)) in row.iter_mut().zip(values).enumerate() {
-                *x = value as f32;
-                if !x.is_finite() {
-                    return Err(SurrogateError::NonFinite {
-                        source_name: "prediction input".to_owned(),
-                        row: i + 1,
-                        column: format!("#{}", j + 1),
-                        value,
-                    });
-                }
-            }
+        for (i, row) in values.chunks(self.n_features.max(1)).enumerate() {
             sums.copy_from_slice(&self.base_score);
             for tree in &self.trees {
-                sums[tree.output] += tree.leaf_value(&row);
+                sums[tree.output] += tree.leaf_value(row);
             }
             for (out, &sum) in predicted.row_mut(i).iter_mut().zip(&sums) {
                 *out = f64::from(sum);
@@ -304,17 +298,22 @@ impl Tree {
     }
 }
 
-/// `"5E-1"` or `"[5E-1,5E-1]"` as one value per output (a single value serves them all).
-fn parse_base_score(text: &str, n_outputs: usize) -> Option<Vec<f32>> {
+/// `"5E-1"` or `"[5E-1,5E-1]"` as one value per output (a single value serves them all);
+/// the error says what is wrong with it.
+fn parse_base_score(text: &str, n_outputs: usize) -> std::result::Result<Vec<f32>, String> {
     let inner = text.trim().trim_start_matches('[').trim_end_matches(']');
     let values = inner
         .split(',')
         .map(|v| v.trim().parse::<f32>().ok().filter(|v| v.is_finite()))
-        .collect::<Option<Vec<f32>>>()?;
+        .collect::<Option<Vec<f32>>>()
+        .ok_or_else(|| format!("base_score `{text}` is not a list of finite numbers"))?;
     match values.len() {
-        1 => Some(vec![values[0]; n_outputs]),
-        len if len == n_outputs => Some(values),
-        _ => None,
+        1 => Ok(vec![values[0]; n_outputs]),
+        len if len == n_outputs => Ok(values),
+        len => Err(format!(
+            "base_score `{text}` holds {len} values, but learner_model_param.num_target says \
+             {n_outputs} output(s)"
+        )),
     }
 }
 
@@ -379,9 +378,15 @@ mod tests {
 
     #[test]
     fn base_score_is_read_as_one_value_or_one_per_output() {
-        assert_eq!(parse_base_score("5E-1", 2), Some(vec![0.5, 0.5]));
-        assert_eq!(parse_base_score("[5E-1,2.5E-1]", 2), Some(vec![0.5, 0.25]));
-        assert_eq!(parse_base_score("[1,2,3]", 2), None);
-        assert_eq!(parse_base_score("NaN", 1), None);
+        assert_eq!(parse_base_score("5E-1", 2), Ok(vec![0.5, 0.5]));
+        assert_eq!(parse_base_score("[5E-1,2.5E-1]", 2), Ok(vec![0.5, 0.25]));
+        assert_eq!(
+            parse_base_score("[1,2,3]", 2).unwrap_err(),
+            "base_score `[1,2,3]` holds 3 values, but learner_model_param.num_target says 2 \
+             output(s)"
+        );
+        assert!(parse_base_score("NaN", 1)
+            .unwrap_err()
+            .contains("not a list of finite numbers"));
     }
 }

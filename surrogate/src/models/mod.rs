@@ -3,6 +3,7 @@
 
 pub mod booster;
 pub mod bundle;
+pub(crate) mod f32_input;
 pub mod forest;
 pub mod metrics;
 pub mod model;

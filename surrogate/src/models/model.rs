@@ -13,9 +13,10 @@ use crate::data::physical_range::clip_to_physical_range;
 use crate::data::samples::Samples;
 use crate::data::scaling::MinMaxScaling;
 use crate::data::training_domain::TrainingDomain;
-use crate::error::{Result, SurrogateError};
+use crate::error::{name_differences, Result, SurrogateError};
 use crate::models::booster::{xgboost_version, Booster, HyperParameters};
 use crate::models::metrics::relative_l2_error;
+use crate::models::xgboost_json::ShapeJson;
 use crate::rheology::backbone::Backbone;
 
 /// Everything about a trained model except its trees.
@@ -161,15 +162,13 @@ impl TrainedModel {
     /// Reads the model of mapping `name` saved in `dir`, checking that the sidecar, the
     /// booster and the mapping's current definition agree on features and outputs.
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
-        let (meta, booster, domain) = ModelMeta::load_with(dir, name, Booster::load_json, |b| {
-            // XGBoost reads the trees itself; their count is checked where they are walked.
-            (
-                b.n_features(),
-                b.n_outputs(),
-                b.feature_names().to_vec(),
-                None,
-            )
-        })?;
+        // XGBoost reads the trees itself; their count is checked where they are walked.
+        let (meta, booster, domain) = ModelMeta::load_with(
+            dir,
+            name,
+            |path, json| Booster::from_json(json, path),
+            |_| None,
+        )?;
         Ok(TrainedModel {
             meta,
             booster,
@@ -179,6 +178,48 @@ impl TrainedModel {
 }
 
 impl ModelMeta {
+    /// The training data file the sidecar names (`training_data.source`), for a model saved
+    /// in `model_dir`: an absolute path as it is; a relative one is taken relative to the
+    /// folder holding `model_dir` (`suspflow train` records it so: the shipped
+    /// `models/*.meta.json` name `datasets/...` beside `models/`), or, when no file is there,
+    /// relative to `model_dir` itself. The current directory plays no part, so a model is
+    /// found with its data from anywhere. The path is returned even when no file is there
+    /// (readers then name it).
+    pub fn training_file(&self, model_dir: &Path) -> PathBuf {
+        let source = Path::new(&self.training_data.source);
+        if source.is_absolute() {
+            return source.to_path_buf();
+        }
+        let dir = std::fs::canonicalize(model_dir)
+            .or_else(|_| std::path::absolute(model_dir))
+            .unwrap_or_else(|_| model_dir.to_path_buf());
+        let beside = dir.parent().unwrap_or(&dir).join(source);
+        let inside = dir.join(source);
+        if !beside.exists() && inside.exists() {
+            inside
+        } else {
+            beside
+        }
+    }
+
+    /// How `train` records `data` for a model saved in `model_dir` ([`ModelMeta::training_file`]
+    /// reads it back): relative to the folder holding `model_dir` when `data` lies below it,
+    /// else as an absolute path.
+    pub fn recorded_source(data: &Path, model_dir: &Path) -> String {
+        let absolute = |p: &Path| {
+            std::fs::canonicalize(p)
+                .or_else(|_| std::path::absolute(p))
+                .unwrap_or_else(|_| p.to_path_buf())
+        };
+        let data = absolute(data);
+        let dir = absolute(model_dir);
+        let base = dir.parent().unwrap_or(&dir);
+        data.strip_prefix(base)
+            .map_or_else(|_| data.clone(), Path::to_path_buf)
+            .display()
+            .to_string()
+    }
+
     /// Outputs in original units from the trees' predictions `scaled` for rows `features`:
     /// unscaled outputs, or the backbone plus unscaled residuals, clipped into their
     /// [`physical_range`](crate::data::physical_range::physical_range).
@@ -217,78 +258,112 @@ impl ModelMeta {
         if !missing.is_empty() {
             return Err(SurrogateError::FeatureMismatch {
                 detail: format!(
-                    "{} lacks column(s) {}",
+                    "{} lacks column(s) {} of the model's features [{}]; its columns are [{}]",
                     dataset.source_name(),
-                    missing.join(", ")
+                    missing.join(", "),
+                    self.features.join(", "),
+                    available.join(", ")
                 ),
-                expected: self.features.clone(),
-                found: available.to_vec(),
             });
         }
         let names: Vec<&str> = self.features.iter().map(String::as_str).collect();
         dataset.matrix(&names)
     }
 
-    /// Reads the sidecar `<dir>/<name>.meta.json`, the trees `<dir>/<name>.json` (with
-    /// `load_trees`) and the training domain `<dir>/<name>.domain.json`, and checks that the
-    /// sidecar, the trees' `(features, outputs, feature names, tree count)` as `shape` tells
-    /// them, the domain's feature count and mapping `name`'s current definition agree, then
-    /// the whole bundle ([`crate::models::bundle::check`]). Trees that store no feature names
-    /// are checked by their counts alone.
+    /// Reads the sidecar `<dir>/<name>.meta.json`, the trees `<dir>/<name>.json` and the
+    /// training domain `<dir>/<name>.domain.json`, and checks that the sidecar, the trees'
+    /// counts and feature names (read first, from the file's `learner_model_param`, so that a
+    /// model of another mapping is named as such before its trees are read), the domain's
+    /// feature count and mapping `name`'s current definition agree; then reads the trees with
+    /// `load_trees` (the path and its bytes), then checks the whole bundle
+    /// ([`crate::models::bundle::check`]) with the tree count `n_trees` gives. Trees that
+    /// store no feature names are checked by their counts alone.
     pub(crate) fn load_with<T>(
         dir: &Path,
         name: &str,
-        load_trees: impl FnOnce(&Path) -> Result<T>,
-        shape: impl FnOnce(&T) -> (usize, usize, Vec<String>, Option<usize>),
+        load_trees: impl FnOnce(&Path, &[u8]) -> Result<T>,
+        n_trees: impl FnOnce(&T) -> Option<usize>,
     ) -> Result<(Self, T, TrainingDomain)> {
         let mapping = Mapping::by_name(name)?;
         let paths = ModelPaths::new(dir, name);
         let (trees_path, meta_path) = (&paths.trees, &paths.meta);
-        let meta: ModelMeta = files::read_json(meta_path)?;
-        let trees = load_trees(trees_path)?;
-        let domain: TrainingDomain = files::read_json(&paths.domain)?;
-        let (n_features, n_outputs, tree_features, n_trees) = shape(&trees);
-        let mismatch = |detail: String| SurrogateError::FeatureMismatch {
-            detail,
-            expected: mapping.features.iter().map(|&s| s.to_owned()).collect(),
-            found: meta.features.clone(),
-        };
-        if meta.mapping != mapping.name
-            || meta.features != mapping.features
-            || meta.outputs != mapping.outputs
-        {
+        let meta: ModelMeta = files::read_json(meta_path, "a model sidecar")?;
+        let trees_json = files::read(trees_path)?;
+        let shape: ShapeJson = files::parse_json(trees_path, &trees_json, "an XGBoost JSON model")?;
+        let (n_features, n_outputs) = shape
+            .learner
+            .learner_model_param
+            .counts(&trees_path.display().to_string())?;
+        let tree_features = shape.learner.feature_names;
+        let domain: TrainingDomain = files::read_json(&paths.domain, "a training domain")?;
+        let mismatch = |detail: String| SurrogateError::FeatureMismatch { detail };
+        if meta.mapping != mapping.name {
             return Err(mismatch(format!(
-                "{} describes mapping `{}` with outputs [{}], but mapping `{}` now has outputs [{}]",
+                "{} describes mapping `{}`, not `{}` (the sidecar of another mapping?)",
                 meta_path.display(),
                 meta.mapping,
-                meta.outputs.join(", "),
+                mapping.name
+            )));
+        }
+        for (what, listed, defined) in [
+            ("features", &meta.features, mapping.features),
+            ("outputs", &meta.outputs, mapping.outputs),
+        ] {
+            if listed
+                .iter()
+                .map(String::as_str)
+                .ne(defined.iter().copied())
+            {
+                return Err(mismatch(format!(
+                    "{} lists {what} [{}], mapping `{}` now has [{}]: {}",
+                    meta_path.display(),
+                    listed.join(", "),
+                    mapping.name,
+                    defined.join(", "),
+                    name_differences(defined, listed)
+                )));
+            }
+        }
+        let counted = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+        if n_outputs != mapping.outputs.len() {
+            return Err(mismatch(format!(
+                "the model {} has {} (learner_model_param.num_target) where mapping `{}` has {} \
+                 ({}): trees of another mapping, or an edited file?",
+                trees_path.display(),
+                counted(n_outputs, "output"),
                 mapping.name,
+                mapping.outputs.len(),
                 mapping.outputs.join(", ")
             )));
         }
-        if n_features != meta.features.len()
-            || n_outputs != meta.outputs.len()
-            || meta.scaling.ranges.len() != meta.outputs.len()
-        {
+        if n_features != mapping.features.len() {
             return Err(mismatch(format!(
-                "{} has {} features and {} outputs, {} lists {} and {} (with {} scaling ranges)",
+                "the model {} has {} (learner_model_param.num_feature) where mapping `{}` has {} \
+                 ({}): trees of another mapping, or an edited file?",
                 trees_path.display(),
-                n_features,
-                n_outputs,
+                counted(n_features, "feature"),
+                mapping.name,
+                mapping.features.len(),
+                mapping.features.join(", ")
+            )));
+        }
+        if meta.scaling.ranges.len() != meta.outputs.len() {
+            return Err(mismatch(format!(
+                "{} holds {} for its {}",
                 meta_path.display(),
-                meta.features.len(),
-                meta.outputs.len(),
-                meta.scaling.ranges.len()
+                counted(meta.scaling.ranges.len(), "scaling range"),
+                counted(meta.outputs.len(), "output")
             )));
         }
         if !tree_features.is_empty() && tree_features != meta.features {
             return Err(mismatch(format!(
-                "the trees in {} were trained on features [{}], not on the [{}] of {} (trees of \
+                "the trees in {} were trained on features [{}], {} lists [{}]: {} (trees of \
                  another mapping?)",
                 trees_path.display(),
                 tree_features.join(", "),
+                meta_path.display(),
                 meta.features.join(", "),
-                meta_path.display()
+                name_differences(&meta.features, &tree_features)
             )));
         }
         if domain.axes.len() != meta.features.len()
@@ -306,7 +381,8 @@ impl ModelMeta {
                 meta.features.len()
             )));
         }
-        crate::models::bundle::check(&meta, n_trees, &domain).map_err(|detail| {
+        let trees = load_trees(trees_path, &trees_json)?;
+        crate::models::bundle::check(&meta, n_trees(&trees), &domain).map_err(|detail| {
             SurrogateError::InconsistentModel {
                 model: dir.join(name).display().to_string(),
                 detail,
@@ -353,14 +429,26 @@ fn check_columns<S: AsRef<str>>(samples: &Samples, features: &[S], outputs: &[S]
             .map(|n| n.as_ref().to_owned())
             .collect::<Vec<_>>()
     };
+    let differences = [
+        ("features", &samples.feature_names, owned(features)),
+        ("outputs", &samples.output_names, owned(outputs)),
+    ]
+    .into_iter()
+    .filter(|(_, found, expected)| *found != expected)
+    .map(|(what, found, expected)| {
+        format!(
+            "{what} [{}] where the model has [{}] ({})",
+            found.join(", "),
+            expected.join(", "),
+            name_differences(&expected, found)
+        )
+    })
+    .collect::<Vec<_>>();
     Err(SurrogateError::FeatureMismatch {
         detail: format!(
-            "samples of {} map to outputs [{}], the model to outputs [{}]",
+            "the samples of {} have {}",
             samples.source_name,
-            samples.output_names.join(", "),
-            owned(outputs).join(", ")
+            differences.join(", and ")
         ),
-        expected: owned(features),
-        found: samples.feature_names.clone(),
     })
 }

@@ -8,7 +8,6 @@ use std::path::Path;
 use ndarray::{Array2, ArrayView2};
 
 use crate::data::dataset::Dataset;
-use crate::data::files;
 use crate::data::training_domain::{DomainCheck, TrainingDomain};
 use crate::error::Result;
 use crate::models::forest::Forest;
@@ -27,15 +26,9 @@ impl Predictor {
     /// [`TrainedModel::load`](crate::models::model::TrainedModel::load).
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         let read_trees =
-            |path: &Path| Forest::from_json(&files::read(path)?, &path.display().to_string());
-        let (meta, forest, domain) = ModelMeta::load_with(dir, name, read_trees, |f| {
-            (
-                f.n_features(),
-                f.n_outputs(),
-                f.feature_names().to_vec(),
-                Some(f.n_trees()),
-            )
-        })?;
+            |path: &Path, json: &[u8]| Forest::from_json(json, &path.display().to_string());
+        let (meta, forest, domain) =
+            ModelMeta::load_with(dir, name, read_trees, |f| Some(f.n_trees()))?;
         Ok(Predictor {
             meta,
             forest,

@@ -51,7 +51,7 @@ impl LearnerModelParamJson {
         let count = |name: &str, text: &str| {
             text.parse::<usize>().map_err(|_| {
                 SurrogateError::ModelFormat(format!(
-                    "{source}: learner_model_param.{name} = `{text}`"
+                    "{source}: learner_model_param.{name} = `{text}` is not a count"
                 ))
             })
         };
@@ -99,4 +99,126 @@ pub(crate) struct TreeJson {
 pub(crate) struct TreeParamJson {
     /// Outputs per leaf: 0 or 1 for scalar leaves, more for `multi_output_tree`.
     pub size_leaf_vector: String,
+}
+
+/// What XGBoost's own loader reads of a tree model, checked before the file is handed to it:
+/// its loader meets a missing field or a short array with a C++ exception and stack trace.
+/// Holds both tree kinds (scalar leaves and `multi_output_tree` vector leaves).
+#[derive(Deserialize)]
+pub(crate) struct LoaderJson {
+    pub learner: LoaderLearnerJson,
+}
+
+#[derive(Deserialize)]
+pub(crate) struct LoaderLearnerJson {
+    /// Required, read by [`ShapeJson`].
+    #[serde(rename = "learner_model_param")]
+    _learner_model_param: LearnerModelParamJson,
+    pub gradient_booster: LoaderBoosterJson,
+    /// Required; XGBoost reads the objective's name and parameters.
+    #[serde(rename = "objective")]
+    _objective: ObjectiveJson,
+}
+
+#[derive(Deserialize)]
+pub(crate) struct LoaderBoosterJson {
+    pub name: String,
+    pub model: LoaderTreesJson,
+}
+
+#[derive(Deserialize)]
+pub(crate) struct LoaderTreesJson {
+    pub gbtree_model_param: GbtreeParamJson,
+    pub trees: Vec<LoaderTreeJson>,
+    pub tree_info: Vec<i64>,
+}
+
+#[derive(Deserialize)]
+pub(crate) struct GbtreeParamJson {
+    pub num_trees: String,
+}
+
+/// The per-node arrays of one tree that both tree kinds hold, one entry per node.
+#[derive(Deserialize)]
+pub(crate) struct LoaderTreeJson {
+    pub tree_param: NodeCountJson,
+    pub left_children: Vec<i64>,
+    pub right_children: Vec<i64>,
+    pub parents: Vec<i64>,
+    pub split_indices: Vec<i64>,
+    pub split_conditions: Vec<f64>,
+    pub default_left: Vec<serde_json::Value>,
+    pub base_weights: Vec<f64>,
+}
+
+#[derive(Deserialize)]
+pub(crate) struct NodeCountJson {
+    pub num_nodes: String,
+}
+
+impl LoaderJson {
+    /// The first thing in the model that XGBoost's loader could not read: a count that is
+    /// not one, trees that are not `num_trees`, a node array of another length than the
+    /// tree's `num_nodes`, a child index out of range.
+    pub fn problem(&self) -> Option<String> {
+        let learner = &self.learner;
+        if learner.gradient_booster.name != "gbtree" {
+            return Some(format!(
+                "booster `{}`, but only gbtree models are read here",
+                learner.gradient_booster.name
+            ));
+        }
+        let model = &learner.gradient_booster.model;
+        let declared = &model.gbtree_model_param.num_trees;
+        if declared.parse::<usize>().ok() != Some(model.trees.len())
+            || model.tree_info.len() != model.trees.len()
+        {
+            return Some(format!(
+                "gbtree_model_param.num_trees = `{declared}`, but it holds {} trees and {} \
+                 tree_info entries",
+                model.trees.len(),
+                model.tree_info.len()
+            ));
+        }
+        model
+            .trees
+            .iter()
+            .enumerate()
+            .find_map(|(index, tree)| tree.problem().map(|p| format!("tree {index}: {p}")))
+    }
+}
+
+impl LoaderTreeJson {
+    fn problem(&self) -> Option<String> {
+        let declared = &self.tree_param.num_nodes;
+        let Ok(nodes) = declared.parse::<usize>() else {
+            return Some(format!("tree_param.num_nodes = `{declared}`"));
+        };
+        let lengths = [
+            ("left_children", self.left_children.len()),
+            ("right_children", self.right_children.len()),
+            ("parents", self.parents.len()),
+            ("split_indices", self.split_indices.len()),
+            ("split_conditions", self.split_conditions.len()),
+            ("default_left", self.default_left.len()),
+        ];
+        if nodes == 0 {
+            return Some("no nodes".to_owned());
+        }
+        if let Some((name, len)) = lengths.iter().find(|(_, len)| *len != nodes) {
+            return Some(format!("{name} has {len} entries for {nodes} nodes"));
+        }
+        if self.base_weights.len() < nodes {
+            return Some(format!(
+                "base_weights has {} entries for {nodes} nodes",
+                self.base_weights.len()
+            ));
+        }
+        let in_range = |c: i64| c == -1 || (0..nodes as i64).contains(&c);
+        self.left_children
+            .iter()
+            .chain(&self.right_children)
+            .find(|&&c| !in_range(c))
+            .map(|c| format!("a child index {c} among {nodes} nodes"))
+    }
 }

@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use crate::data::samples::Samples;
 use crate::data::scaling::MinMaxScaling;
-use crate::error::{Result, SurrogateError};
+use crate::error::{name_differences, Result, SurrogateError};
 use crate::models::metrics::relative_l2_error;
 use crate::rheology::backbone::Backbone;
 
@@ -45,13 +45,21 @@ pub fn evaluate_baseline(
     test: &Samples,
 ) -> Result<BaselineScore> {
     if train.feature_names != test.feature_names || train.output_names != test.output_names {
+        let differences = [
+            ("features", &train.feature_names, &test.feature_names),
+            ("outputs", &train.output_names, &test.output_names),
+        ]
+        .into_iter()
+        .filter(|(_, a, b)| a != b)
+        .map(|(what, a, b)| format!("{what}: {}", name_differences(a, b)))
+        .collect::<Vec<_>>();
         return Err(SurrogateError::FeatureMismatch {
             detail: format!(
-                "training set {} and test set {} have different columns",
-                train.source_name, test.source_name
+                "test set {} differs from training set {} in its {}",
+                test.source_name,
+                train.source_name,
+                differences.join("; ")
             ),
-            expected: train.feature_names.clone(),
-            found: test.feature_names.clone(),
         });
     }
     if baseline == Baseline::LocalRheology {

@@ -121,7 +121,7 @@ impl Tuning {
 
     /// Reads `<dir>/<name>.tuning.json`.
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
-        files::read_json(&Self::path(dir, name))
+        files::read_json(&Self::path(dir, name), "a tuning record")
     }
 
     /// `<dir>/<name>.tuning.json`.

@@ -58,6 +58,8 @@ pub use validation::family_cv::{
 pub use validation::family_folds::{
     family_names, leave_one_family_out, tuning_folds, FamilyFold, LeftOut, MIN_TUNING_FAMILIES,
 };
+pub use validation::profile_rows::{gain_shares, records, theta_vs_dv, Lower, Record, ThetaVsDv};
+pub use validation::training_overlap::{overlap_warning, training_samples};
 pub use validation::tuning::{standard_grid, Tuning};
 pub use validation::unseen_profiles::{
     profile_names, seeds_validation_error, ProfileError, Validation, ALL_PROFILES, IN_DOMAIN,

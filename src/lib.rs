@@ -10,7 +10,6 @@ mod file_lock;
 mod local_viscosity;
 mod output_guard;
 mod plots;
-mod prediction_timing;
 mod report;
 mod run_rows;
 mod scene_work;

@@ -43,6 +43,10 @@ pub use models::predictor::Predictor;
 pub use rheology::agreement::{agreement, Agreement};
 pub use rheology::ensemble::{build_ensemble, Ensemble, EnsembleSummary, ObservableSummary};
 pub use rheology::flow_curve_fit::{bin_viscosity, FlowCurvePoint, SeededJammingFit};
+pub use rheology::flow_curves::{
+    over_seeds, part_viscosity, seed_mean, state_rows, states, volume_fractions, State, StateFits,
+    StatePoint, StateRow, CONVENTIONS,
+};
 pub use rheology::jamming_law::{JammingLaw, SEEDS_LAW};
 pub use rheology::local_rheology::LocalRheology;
 pub use rheology::statistics::{mean_and_standard_error, median, DescriptorStats};

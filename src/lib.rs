@@ -10,13 +10,11 @@ mod file_lock;
 mod local_viscosity;
 mod output_guard;
 mod plots;
-mod prediction_timing;
 mod report;
 mod run_rows;
 mod scene_work;
 mod surrogate_text;
 mod threads;
-mod training_overlap;
 
 /// Version of the code that produced a result: package version, commit, and `-dirty` when
 /// the working tree had uncommitted changes at build time (see `build/stamp.rs`).

@@ -9,8 +9,8 @@
 //! (contact, drag, lubrication, summed over the list) -> [`integrate`] (the [`Simulation`]
 //! and its time step) -> [`sampling`] (bins, snapshot sums, [`BinAverages`], steady state)
 //! -> [`output`] (tables, summary, frames, checkpoints); [`run`] drives a scene from start
-//! to its averaged steady state, and [`run_length`] samples one run for the study of
-//! error against run length.
+//! to its averaged steady state, and [`studies`] sit above it (error against run length,
+//! the stability sweep).
 
 pub mod error;
 pub mod forces;
@@ -19,9 +19,9 @@ pub mod integrate;
 pub mod neighbours;
 pub mod output;
 pub mod run;
-pub mod run_length;
 pub mod sampling;
 pub mod state;
+pub mod studies;
 
 pub use error::SimError;
 pub use input::flow_profile::FlowProfile;

@@ -3,11 +3,10 @@
 //! XGBoost JSON, `surrogate::Predictor`), read the input CSV file, predict every row. The target is a 50-bin profile in
 //! under 10 ms. Each mapping is timed `--repeat` times; the first run (cold caches) is
 //! reported apart from the median and minimum.
-use crate::prediction_timing::{time_mapping, Timing};
 use anyhow::Context;
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use surrogate::Mapping;
+use surrogate::{time_mapping, Mapping, Timing};
 
 /// The end-to-end target per profile, in milliseconds.
 const TARGET_MS: f64 = 10.0;
@@ -47,7 +46,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(path) => (path.clone(), false),
         None => (write_synthetic_profile(args.rows)?, true),
     };
-    let timings: anyhow::Result<Vec<Timing>> = mappings
+    let timings: surrogate::Result<Vec<Timing>> = mappings
         .iter()
         .map(|m| time_mapping(m, &args.models, &input, args.repeat))
         .collect();

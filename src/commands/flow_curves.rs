@@ -28,8 +28,8 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use surrogate::{
-    bin_viscosity, mean_and_standard_error, Dataset, FlowCurvePoint, JammingLaw, SeededJammingFit,
-    SEEDS_LAW,
+    bin_viscosity, over_seeds, part_viscosity, state_rows, states, volume_fractions, Dataset,
+    JammingLaw, State, StateFits, StatePoint, CONVENTIONS, SEEDS_LAW,
 };
 
 /// Centres of the `phi_loc` bands of the local-versus-homogeneous table.
@@ -88,42 +88,23 @@ const PARTS: [(&str, &str, &str); 4] = [
     ("eta_r_brownian", "structural Brownian", "sigma_xy_brownian"),
 ];
 
-/// A state of the flow curves: friction coefficient and Peclet number (infinite without
-/// Brownian forces).
-#[derive(Clone, Copy, PartialEq, PartialOrd)]
-struct State {
-    mu_p: f64,
-    peclet: f64,
-}
-
-impl State {
-    fn label(&self) -> String {
-        if self.peclet.is_finite() {
-            format!("mu_p = {}, Pe = {:.3e}", self.mu_p, self.peclet)
-        } else {
-            format!("mu_p = {}, non-Brownian", self.mu_p)
-        }
+/// A state's name in the tables.
+fn label(state: &State) -> String {
+    if state.peclet.is_finite() {
+        format!("mu_p = {}, Pe = {:.3e}", state.mu_p, state.peclet)
+    } else {
+        format!("mu_p = {}, non-Brownian", state.mu_p)
     }
 }
 
-/// One finished scene.
+/// One finished scene: what the table shows of it beside its point on the flow curves.
 struct FlowPoint {
     id: String,
-    /// The grid's volume fraction (the realised one is in the summary).
-    phi: f64,
-    seed: u64,
     summary: ShearSummary,
     rheology: ShearRheology,
-    /// `eta_r` of the bins' `sigma_xy` (the scene's stress convention): mean over the bins of
-    /// `-sigma_xy / (eta gdot)`, with its standard error.
-    eta_r_bins: (f64, f64),
-    state: State,
     /// Thermal energy (0 without Brownian forces).
     kt: f64,
-    /// The [`PARTS`] of `eta_r`, `(mean, standard error)`, NaN where the run has none.
-    parts: [(f64, f64); 4],
-    /// The Green-Kubo Brownian viscosity over eta at this volume fraction, when given.
-    green_kubo: Option<(f64, f64)>,
+    point: StatePoint,
 }
 
 /// The fields of a `suspflow green-kubo` result this command reads.
@@ -152,45 +133,6 @@ fn read_green_kubo(dirs: &[PathBuf]) -> anyhow::Result<Vec<GreenKuboResult>> {
         })
         .collect()
 }
-
-impl FlowPoint {
-    /// The seeds' low-Pe estimate (paper section 4, Fig. 6a): the hydrodynamic viscosity
-    /// (lubrication and one-body drag) plus the Green-Kubo Brownian viscosity of the
-    /// unsheared suspension at the same volume fraction; NaN without one.
-    fn eta_r_hydrodynamic_green_kubo(&self) -> (f64, f64) {
-        let Some((gk, gk_se)) = self.green_kubo else {
-            return (f64::NAN, f64::NAN);
-        };
-        let ((h, h_se), (d, d_se)) = (self.parts[1], self.parts[2]);
-        (h + d + gk, h_se.hypot(d_se).hypot(gk_se))
-    }
-
-    /// `eta_r` with the structural Brownian stress added (the seeds' low-Pe fit adds a
-    /// Brownian viscosity to the hydrodynamic one).
-    fn eta_r_with_brownian(&self) -> (f64, f64) {
-        let (b, b_se) = self.parts[3];
-        let e = self.rheology.eta_r;
-        (e.mean + b, e.se.hypot(b_se))
-    }
-}
-
-/// The two stress conventions: name, and `(eta_r, standard error)` of a point.
-type Convention = (&'static str, fn(&FlowPoint) -> (f64, f64));
-
-const CONVENTIONS: [Convention; 4] = [
-    ("pair stresslets (box)", |p| {
-        (p.rheology.eta_r.mean, p.rheology.eta_r.se)
-    }),
-    ("bins, scene's stress convention", |p| p.eta_r_bins),
-    (
-        "pair stresslets + structural Brownian",
-        FlowPoint::eta_r_with_brownian,
-    ),
-    (
-        "hydrodynamic + drag + Green-Kubo Brownian (the seeds' Pe -> 0)",
-        FlowPoint::eta_r_hydrodynamic_green_kubo,
-    ),
-];
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, false)?;
@@ -235,8 +177,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .stress_parts
                 .get(part)
                 .map_or((f64::NAN, f64::NAN), |e| {
-                    // `+ 0.0` turns the -0 of a zero part (no Brownian forces) into 0.
-                    (-e.mean / eta_gdot + 0.0, e.se / eta_gdot)
+                    part_viscosity(e.mean, e.se, eta_gdot)
                 })
         });
         let state = State {
@@ -251,17 +192,24 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .iter()
             .find(|g| (g.phi_actual - summary.phi_actual).abs() < GREEN_KUBO_PHI_MATCH)
             .map(|g| (g.eta_brownian_over_eta, g.eta_brownian_over_eta_se));
+        let estimate = |e: Estimate| (e.mean, e.se);
         points.push(FlowPoint {
-            green_kubo,
             id: gs.id.clone(),
-            phi: gs.scene.file.particles.phi,
-            seed: gs.scene.file.seed,
+            point: StatePoint {
+                state,
+                phi: gs.scene.file.particles.phi,
+                seed: gs.scene.file.seed,
+                phi_actual: summary.phi_actual,
+                eta_r: estimate(rheology.eta_r),
+                eta_r_bins,
+                parts,
+                mu: estimate(rheology.mu),
+                j: estimate(rheology.j),
+                green_kubo,
+            },
             summary,
             rheology,
-            eta_r_bins,
-            state,
             kt: gs.scene.file.fluid.kt,
-            parts,
         });
     }
     if !missing.is_empty() {
@@ -275,26 +223,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             missing.join(", ")
         );
     }
-    let states = states(&points);
-    let fits: Vec<StateFits> = states
-        .iter()
-        .map(|&state| {
-            let sel: Vec<&FlowPoint> = points.iter().filter(|p| p.state == state).collect();
-            StateFits {
-                state,
-                fits: CONVENTIONS
-                    .iter()
-                    .map(|(_, value)| fit(&sel, *value))
-                    .collect(),
-            }
-        })
+    let curve: Vec<StatePoint> = points.iter().map(|p| p.point).collect();
+    let fits: Vec<StateFits> = states(&curve)
+        .into_iter()
+        .map(|state| StateFits::fit(&curve, state))
         .collect();
     let local = match &args.local {
         Some(path) => Some(local_viscosity::bands(path, &LOCAL_BANDS)?),
         None => None,
     };
-    let phis = volume_fractions(&points);
-    let brownian = points.iter().any(|p| p.state.peclet.is_finite());
+    let phis = volume_fractions(&curve);
+    let brownian = curve.iter().any(|p| p.state.peclet.is_finite());
     let mut written: Vec<PathBuf> = ["README.md", "flow_curves.csv", "eta_r.svg", "mu_J.svg"]
         .iter()
         .map(|f| args.out.join(f))
@@ -315,13 +254,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .iter()
         .find_map(|f| f.fits[0].as_ref().ok())
         .map(|f| f.all);
-    draw_figures(&args.out, &points, first_fit.as_ref())?;
+    draw_figures(&args.out, &curve, first_fit.as_ref())?;
     if brownian {
         for &phi in &phis {
-            draw_peclet_figure(&args.out.join(peclet_figure(phi)), phi, &points)?;
+            draw_peclet_figure(&args.out.join(peclet_figure(phi)), phi, &curve)?;
         }
     }
-    let text = summary_text(&args, &points, &fits, local.as_deref());
+    let text = summary_text(&args, &curve, &fits, local.as_deref());
     let readme = args.out.join("README.md");
     write_atomic(&readme, text.as_bytes())?;
     print!("{text}");
@@ -329,91 +268,33 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The jamming law of one state under each of the [`CONVENTIONS`] (an error where its
-/// points cannot be fitted, e.g. fewer than three volume fractions).
-struct StateFits {
-    state: State,
-    fits: Vec<surrogate::Result<SeededJammingFit>>,
-}
-
-/// The distinct states of `points`, ordered by friction, then Peclet number.
-fn states(points: &[FlowPoint]) -> Vec<State> {
-    let mut states: Vec<State> = Vec::new();
-    for p in points {
-        if !states.contains(&p.state) {
-            states.push(p.state);
-        }
-    }
-    states.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-    states
-}
-
-/// The grid's distinct volume fractions, ascending.
-fn volume_fractions(points: &[FlowPoint]) -> Vec<f64> {
-    let mut phis: Vec<f64> = points.iter().map(|p| p.phi).collect();
-    phis.sort_by(f64::total_cmp);
-    phis.dedup();
-    phis
-}
-
 /// File name of the `eta_r(Pe)` figure at volume fraction `phi`.
 fn peclet_figure(phi: f64) -> String {
     format!("eta_r_Pe_phi{phi:.3}.svg")
 }
 
-/// Mean over seeds, with the standard error of that mean from their spread (from the
-/// single run's own error when there is one seed), of `value` at each Peclet number of
-/// the points `sel`: `(Pe, mean, standard error)`, ascending in Pe, non-finite left out.
-fn over_seeds(
-    sel: &[&FlowPoint],
-    value: impl Fn(&FlowPoint) -> (f64, f64),
-) -> Vec<(f64, f64, f64)> {
-    let mut by_pe: Vec<(f64, Vec<(f64, f64)>)> = Vec::new();
-    for p in sel {
-        let v = value(p);
-        match by_pe.iter_mut().find(|(pe, _)| *pe == p.state.peclet) {
-            Some((_, vs)) => vs.push(v),
-            None => by_pe.push((p.state.peclet, vec![v])),
-        }
-    }
-    by_pe.sort_by(|a, b| a.0.total_cmp(&b.0));
-    by_pe
-        .into_iter()
-        .filter(|(pe, _)| pe.is_finite())
-        .map(|(pe, vs)| {
-            let (m, se) = if vs.len() == 1 {
-                vs[0]
-            } else {
-                mean_and_standard_error(&vs.iter().map(|v| v.0).collect::<Vec<_>>())
-            };
-            (pe, m, se)
-        })
-        .filter(|(_, m, se)| m.is_finite() && se.is_finite())
-        .collect()
-}
-
 /// `eta_r(Pe)` at volume fraction `phi`: the total (pair stresslets) for each friction
 /// coefficient, and the [`PARTS`] of the frictionless (or least frictional) runs; log-log,
 /// non-positive values (a negative part) left out.
-fn draw_peclet_figure(path: &Path, phi: f64, points: &[FlowPoint]) -> anyhow::Result<()> {
-    let at_phi: Vec<&FlowPoint> = points.iter().filter(|p| p.phi == phi).collect();
+fn draw_peclet_figure(path: &Path, phi: f64, points: &[StatePoint]) -> anyhow::Result<()> {
+    let at_phi: Vec<&StatePoint> = points.iter().filter(|p| p.phi == phi).collect();
     let mut frictions: Vec<f64> = at_phi.iter().map(|p| p.state.mu_p).collect();
     frictions.sort_by(f64::total_cmp);
     frictions.dedup();
     let mut series = Vec::new();
     for &mu_p in &frictions {
-        let sel: Vec<&FlowPoint> = at_phi
+        let sel: Vec<&StatePoint> = at_phi
             .iter()
             .copied()
             .filter(|p| p.state.mu_p == mu_p)
             .collect();
         series.push(Points {
             name: format!("eta_r (contact + lubrication), mu_p = {mu_p}"),
-            points: over_seeds(&sel, |p| (p.rheology.eta_r.mean, p.rheology.eta_r.se)),
+            points: over_seeds(&sel, |p| p.eta_r),
         });
     }
     if let Some(&mu_p) = frictions.first() {
-        let sel: Vec<&FlowPoint> = at_phi
+        let sel: Vec<&StatePoint> = at_phi
             .iter()
             .copied()
             .filter(|p| p.state.mu_p == mu_p)
@@ -436,8 +317,8 @@ fn draw_peclet_figure(path: &Path, phi: f64, points: &[FlowPoint]) -> anyhow::Re
 }
 
 /// The points of each seed, in grid order.
-fn by_seed(points: &[FlowPoint]) -> BTreeMap<u64, Vec<&FlowPoint>> {
-    let mut seeds: BTreeMap<u64, Vec<&FlowPoint>> = BTreeMap::new();
+fn by_seed(points: &[StatePoint]) -> BTreeMap<u64, Vec<&StatePoint>> {
+    let mut seeds: BTreeMap<u64, Vec<&StatePoint>> = BTreeMap::new();
     for p in points {
         seeds.entry(p.seed).or_default().push(p);
     }
@@ -445,7 +326,7 @@ fn by_seed(points: &[FlowPoint]) -> BTreeMap<u64, Vec<&FlowPoint>> {
 }
 
 /// One marker series per seed of `(x, y, standard error of y)` taken from each point.
-fn per_seed(points: &[FlowPoint], value: fn(&FlowPoint) -> (f64, f64, f64)) -> Vec<Points> {
+fn per_seed(points: &[StatePoint], value: fn(&StatePoint) -> (f64, f64, f64)) -> Vec<Points> {
     by_seed(points)
         .iter()
         .map(|(s, sel)| Points {
@@ -453,23 +334,6 @@ fn per_seed(points: &[FlowPoint], value: fn(&FlowPoint) -> (f64, f64, f64)) -> V
             points: sel.iter().map(|p| value(p)).collect(),
         })
         .collect()
-}
-
-/// The jamming law fitted to every point and to each seed's points, with `eta_r` from
-/// `value`.
-fn fit(
-    points: &[&FlowPoint],
-    value: fn(&FlowPoint) -> (f64, f64),
-) -> surrogate::Result<SeededJammingFit> {
-    let points: Vec<FlowCurvePoint> = points
-        .iter()
-        .map(|p| FlowCurvePoint {
-            seed: p.seed,
-            phi: p.summary.phi_actual,
-            eta_r: value(p).0,
-        })
-        .collect();
-    SeededJammingFit::fit(&points)
 }
 
 fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
@@ -482,22 +346,28 @@ fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
         let _ = write!(out, ",{name},{name}_se");
     }
     out.push('\n');
-    for p in points {
-        let r = &p.rheology;
+    for FlowPoint {
+        id,
+        summary,
+        rheology: r,
+        kt,
+        point: p,
+    } in points
+    {
         let _ = write!(
             out,
             "{},{},{},{},{},{},{},{},{},{},{}",
-            p.id,
+            id,
             p.phi,
             p.state.peclet,
             p.state.mu_p,
             p.seed,
-            p.summary.n_particles,
-            p.summary.phi_actual,
-            p.summary.strain_to_steady,
-            p.summary.mean_overlap,
+            summary.n_particles,
+            summary.phi_actual,
+            summary.strain_to_steady,
+            summary.mean_overlap,
             r.shear_rate,
-            p.kt
+            kt
         );
         for e in [r.sigma_xy, r.p, r.eta_r, r.mu, r.j] {
             let _ = write!(out, ",{},{}", e.mean, e.se);
@@ -516,7 +386,7 @@ fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
 /// `mu = J eta_r(phi)`, since `eta_r = mu / J`.
 fn draw_figures(
     out: &Path,
-    points: &[FlowPoint],
+    points: &[StatePoint],
     fitted: Option<&JammingLaw>,
 ) -> anyhow::Result<()> {
     let mut laws = vec![(
@@ -535,13 +405,7 @@ fn draw_figures(
             *fitted,
         ));
     }
-    let eta_points = per_seed(points, |p| {
-        (
-            p.summary.phi_actual,
-            p.rheology.eta_r.mean,
-            p.rheology.eta_r.se,
-        )
-    });
+    let eta_points = per_seed(points, |p| (p.phi_actual, p.eta_r.0, p.eta_r.1));
     let phi_grid: Vec<f64> = (0..=60).map(|k| 0.44 + 0.0025 * k as f64).collect();
     let eta_curves: Vec<Line> = laws
         .iter()
@@ -558,11 +422,9 @@ fn draw_figures(
         &eta_points,
         &eta_curves,
     )?;
-    let mu_points = per_seed(points, |p| {
-        (p.rheology.j.mean, p.rheology.mu.mean, p.rheology.mu.se)
-    });
-    let mut by_j: Vec<&FlowPoint> = points.iter().collect();
-    by_j.sort_by(|a, b| a.rheology.j.mean.total_cmp(&b.rheology.j.mean));
+    let mu_points = per_seed(points, |p| (p.j.0, p.mu.0, p.mu.1));
+    let mut by_j: Vec<&StatePoint> = points.iter().collect();
+    by_j.sort_by(|a, b| a.j.0.total_cmp(&b.j.0));
     let mu_curves: Vec<Line> = laws
         .iter()
         .map(|(name, law)| Line {
@@ -570,8 +432,8 @@ fn draw_figures(
             points: by_j
                 .iter()
                 .map(|p| {
-                    let j = p.rheology.j.mean;
-                    (j, j * law.eta_r(p.summary.phi_actual))
+                    let j = p.j.0;
+                    (j, j * law.eta_r(p.phi_actual))
                 })
                 .collect(),
         })
@@ -588,7 +450,7 @@ fn draw_figures(
 
 fn summary_text(
     args: &Args,
-    points: &[FlowPoint],
+    points: &[StatePoint],
     fits: &[StateFits],
     local: Option<&[LocalBand]>,
 ) -> String {
@@ -624,37 +486,19 @@ fn summary_text(
          |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for f in fits {
-        let at_state: Vec<&FlowPoint> = points.iter().filter(|p| p.state == f.state).collect();
-        for phi in volume_fractions(points) {
-            let sel: Vec<&FlowPoint> = at_state.iter().copied().filter(|p| p.phi == phi).collect();
-            if sel.is_empty() {
-                continue;
-            }
-            // The mean over seeds with the standard error from their spread; a single run
-            // with its own batch-means error.
-            let col = |f: &dyn Fn(&FlowPoint) -> (f64, f64)| match sel.as_slice() {
-                [one] => f(one),
-                _ => mean_and_standard_error(&sel.iter().map(|p| f(p).0).collect::<Vec<_>>()),
-            };
-            let estimate = |e: Estimate| (e.mean, e.se);
+        for row in state_rows(points, f.state) {
             let show = |(m, se): (f64, f64)| format!("{m:.2} ± {se:.2}");
-            let phi = col(&|p| (p.summary.phi_actual, 0.0)).0;
-            let (eta, eta_se) = col(&|p| estimate(p.rheology.eta_r));
-            let parts: Vec<String> = (0..PARTS.len())
-                .map(|q| show(col(&|p| p.parts[q])))
-                .collect();
-            let (mu, mu_se) = col(&|p| estimate(p.rheology.mu));
-            let (j, j_se) = col(&|p| estimate(p.rheology.j));
-            let law = SEEDS_LAW.eta_r(phi);
+            let (phi, (eta, eta_se), (mu, mu_se), (j, j_se)) = (row.phi, row.eta_r, row.mu, row.j);
+            let parts: Vec<String> = row.parts.iter().map(|&p| show(p)).collect();
             let _ = writeln!(
                 s,
                 "| {} | {phi:.4} | {} | {eta:.2} ± {eta_se:.2} | {} | {} | {:.2} | {:.2} | {mu:.3} ± {mu_se:.3} | {j:.4} ± {j_se:.4} |",
-                f.state.label(),
-                sel.len(),
-                show(col(&|p| p.eta_r_bins)),
+                label(&f.state),
+                row.seeds,
+                show(row.eta_r_bins),
                 parts.join(" | "),
-                law,
-                eta / law
+                row.seeds_law,
+                eta / row.seeds_law
             );
         }
     }
@@ -677,7 +521,7 @@ fn summary_text(
                     let _ = writeln!(
                         s,
                         "| {} | {name} | {:.4} ± {:.4} | {:.3} ± {:.3} | {} |",
-                        f.state.label(),
+                        label(&f.state),
                         fit.all.phi_j,
                         fit.phi_j_se,
                         fit.all.lambda,
@@ -686,7 +530,7 @@ fn summary_text(
                     );
                 }
                 Err(e) => {
-                    let _ = writeln!(s, "| {} | {name} | not fitted: {e} | | |", f.state.label());
+                    let _ = writeln!(s, "| {} | {name} | not fitted: {e} | | |", label(&f.state));
                 }
             }
         }

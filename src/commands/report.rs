@@ -6,11 +6,11 @@
 //!
 //! Quick mode (default) shrinks the validation scenes' box to 8 x L_y x 8 and averages less;
 //! `--full` runs them as shipped (the README's numbers).
-use crate::report::convergence::{self, ConvergenceRun};
-use crate::report::stability_sweep::{self, SweepSize};
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
+use sim::studies::convergence::{self, ConvergenceRun};
+use sim::studies::stability_sweep::{self, SweepSize};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -109,8 +109,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .par_iter()
         .with_max_len(1)
         .map(|s| {
-            let r = convergence::run(s, partial, reference)
-                .with_context(|| format!("scene {}", s.file.name));
+            let r = convergence::run(s, partial, reference, |a, b| {
+                surrogate::relative_l2(a, b, 0.0)
+            })
+            .with_context(|| format!("scene {}", s.file.name));
             bar.inc(1);
             r
         })

@@ -13,16 +13,15 @@
 //! one standard error from `<column>_se`) and each mapping's prediction. `--json` prints
 //! only the records `{mapping, output, profile, rel_l2}`.
 use anyhow::Context;
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 use surrogate::{
-    compare_contenders, profile_names, seeds_validation_error, Baseline, Contender, Dataset,
-    Mapping, Samples, TableKind, TrainedModel, Tuning, Validation, PROFILE_COLUMN,
+    compare_contenders, gain_shares, overlap_warning, profile_names, records,
+    seeds_validation_error, theta_vs_dv, Baseline, Contender, Dataset, Lower, Mapping, Samples,
+    TableKind, TrainedModel, Tuning, Validation, PROFILE_COLUMN,
 };
 
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
 use crate::surrogate_text::{describe, errors_by_output, percent, warn_skipped};
-use crate::training_overlap;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -70,9 +69,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let validation = Validation::run(&model, &data)
             .with_context(|| format!("validating model `{}`", mapping.name))?;
         warn_skipped(mapping, &validation.samples);
-        if let Some(warning) =
-            training_overlap::warning(&model, &args.models, &data, &validation.samples)
-        {
+        if let Some(warning) = overlap_warning(&model, &args.models, &data, &validation.samples) {
             eprintln!("warning: {warning}");
         }
         checked.push(Checked {
@@ -87,7 +84,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .unwrap_or_else(|| args.models.join("validation_plots"));
     let figures = write_figures(&data, &checked, &plots)?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&records(&checked))?);
+        let records: Vec<_> = checked
+            .iter()
+            .flat_map(|c| records(c.mapping, &c.validation))
+            .collect();
+        println!("{}", serde_json::to_string_pretty(&records)?);
         return Ok(());
     }
     println!(
@@ -107,37 +108,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     print_importance(&checked)?;
     println!("\nfigures: {} in {}", figures.len(), plots.display());
     Ok(())
-}
-
-/// One line of the `--json` output.
-#[derive(Serialize)]
-struct Record<'a> {
-    mapping: &'a str,
-    output: &'a str,
-    profile: &'a str,
-    rel_l2: f64,
-}
-
-fn records(checked: &[Checked]) -> Vec<Record<'_>> {
-    let mut records = Vec::new();
-    for c in checked {
-        for (j, output) in c.mapping.outputs.iter().enumerate() {
-            for error in c
-                .validation
-                .errors
-                .iter()
-                .chain(&c.validation.domain_errors)
-            {
-                records.push(Record {
-                    mapping: c.mapping.name,
-                    output,
-                    profile: &error.profile,
-                    rel_l2: error.per_output[j],
-                });
-            }
-        }
-    }
-    records
 }
 
 /// The table of errors per profile and output, with the seeds' figures.
@@ -276,22 +246,14 @@ fn training_samples(
     train: Option<&Path>,
     models: &Path,
 ) -> anyhow::Result<Option<Samples>> {
-    let recorded = &c.model.meta().training_data;
     let path = train.map_or_else(|| c.model.meta().training_file(models), Path::to_path_buf);
-    let samples = Dataset::read_csv(&path).and_then(|data| Samples::from_dataset(&data, c.mapping));
-    let problem = match &samples {
-        Ok(s) if format!("{:016x}", s.source_fingerprint) == recorded.fnv1a_64 => None,
-        Ok(_) => Some(format!(
-            "{} is not the file model `{}` was trained on (its hash differs)",
-            path.display(),
-            c.mapping.name
-        )),
-        Err(e) => Some(e.to_string()),
-    };
-    match (problem, train) {
-        (None, _) => Ok(samples.ok()),
-        (Some(problem), Some(_)) => anyhow::bail!("--train: {problem}"),
-        (Some(problem), None) => {
+    match (
+        surrogate::training_samples(&c.model, c.mapping, &path),
+        train,
+    ) {
+        (Ok(samples), _) => Ok(Some(samples)),
+        (Err(problem), Some(_)) => anyhow::bail!("--train: {problem}"),
+        (Err(problem), None) => {
             println!("  comparisons with XGBoost's defaults and the baselines skipped: {problem}; pass --train FILE");
             Ok(None)
         }
@@ -317,27 +279,19 @@ fn print_theta_vs_dv(checked: &[Checked]) {
         "  {:<width$} {:<8}{:>10}{:>10}  lower",
         "profile", "output", "theta", "dv"
     );
-    for t in &theta.validation.errors {
-        let Some(d) = dv.validation.errors.iter().find(|d| d.profile == t.profile) else {
-            continue;
+    for row in theta_vs_dv(&theta.validation, &dv.validation, theta.mapping.outputs) {
+        let lower = match row.lower() {
+            Lower::Theta => "theta",
+            Lower::Dv => "dv",
+            Lower::Tie => "tie",
         };
-        for (j, output) in theta.mapping.outputs.iter().enumerate() {
-            let (a, b) = (t.per_output[j], d.per_output[j]);
-            let lower = if a < b {
-                "theta"
-            } else if b < a {
-                "dv"
-            } else {
-                "tie"
-            };
-            println!(
-                "  {:<width$} {:<8}{:>10}{:>10}  {lower}",
-                t.profile,
-                output,
-                percent(a),
-                percent(b)
-            );
-        }
+        println!(
+            "  {:<width$} {:<8}{:>10}{:>10}  {lower}",
+            row.profile,
+            row.output,
+            percent(row.theta),
+            percent(row.dv)
+        );
     }
 }
 
@@ -346,15 +300,9 @@ fn print_importance(checked: &[Checked]) -> anyhow::Result<()> {
     println!("\nfeature importance (gain: mean loss reduction of the splits on a feature, as a share of the sum):");
     for c in checked {
         let gains = c.model.feature_importance()?;
-        let total: f64 = gains.iter().map(|(_, g)| g).sum();
-        let shares: Vec<String> = gains
+        let shares: Vec<String> = gain_shares(&gains)
             .iter()
-            .map(|(name, g)| {
-                format!(
-                    "{name} {:.1} %",
-                    if total > 0.0 { 100.0 * g / total } else { 0.0 }
-                )
-            })
+            .map(|(name, share)| format!("{name} {:.1} %", 100.0 * share))
             .collect();
         println!("  {:<6} {}", c.mapping.name, shares.join(", "));
     }

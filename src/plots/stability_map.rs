@@ -2,11 +2,11 @@
 //! its stability map, one row per (parameter, value), one column per dt multiple, each
 //! cell coloured by the outcome (green stable, yellow finished but inaccurate, red blow-up
 //! caught and explained, orange any other failure), as SVG.
-use crate::report::stability_sweep::{
-    self, box_height, CaseResult, Stability, SweepSize, DT_FACTORS,
-};
 use anyhow::Context;
 use plotters::prelude::*;
+use sim::studies::stability_sweep::{
+    self, box_height, CaseResult, Stability, SweepSize, DT_FACTORS,
+};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -15,7 +15,7 @@ const CELL_H: i32 = 22;
 const LABEL_W: i32 = 150;
 const TOP: i32 = 50;
 
-/// Draws `results` (in [`crate::report::stability_sweep::cases`] order) to `path`.
+/// Draws `results` (in [`sim::studies::stability_sweep::cases`] order) to `path`.
 fn draw(path: &Path, results: &[CaseResult]) -> anyhow::Result<()> {
     let rows = results.len() / DT_FACTORS.len();
     let size = (

@@ -2,7 +2,7 @@
 //! table per scene and two log-log figures (`sim_error_vs_strain.svg`,
 //! `sim_error_vs_wall.svg`).
 use crate::plots::loglog::{self, Line};
-use crate::report::convergence::{
+use sim::studies::convergence::{
     decorrelated_slope, log_slope, noise_constant, ConvergenceRun, DECORRELATED_STRAIN, OBSERVABLES,
 };
 use std::fmt::Write as _;

@@ -8,42 +8,9 @@ use anyhow::Context;
 use schema::columns as col;
 use std::fmt::Write as _;
 use std::path::Path;
-use surrogate::{Dataset, TrainedModel, Validation};
-
-/// Variation and noise of one descriptor on one profile.
-pub struct DescriptorStats {
-    /// Standard deviation along y over the mean (coefficient of variation).
-    pub variation: f64,
-    /// Median over bins of standard error / |value|.
-    pub median_relative_se: f64,
-    /// Largest such ratio.
-    pub max_relative_se: f64,
-    /// Standard deviation along y over the root mean square standard error: how many
-    /// noise widths the profile spans.
-    pub signal_to_noise: f64,
-}
-
-/// Statistics of `values` with standard errors `se` (non-finite entries skipped).
-pub fn stats(values: &[f64], se: &[f64]) -> DescriptorStats {
-    let pairs: Vec<(f64, f64)> = values
-        .iter()
-        .zip(se)
-        .filter(|(v, s)| v.is_finite() && s.is_finite())
-        .map(|(&v, &s)| (v, s))
-        .collect();
-    let n = pairs.len() as f64;
-    let mean = pairs.iter().map(|p| p.0).sum::<f64>() / n;
-    let sd = (pairs.iter().map(|p| (p.0 - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
-    let rms_se = (pairs.iter().map(|p| p.1 * p.1).sum::<f64>() / n).sqrt();
-    let mut rel: Vec<f64> = pairs.iter().map(|p| p.1 / p.0.abs()).collect();
-    rel.sort_by(f64::total_cmp);
-    DescriptorStats {
-        variation: sd / mean.abs(),
-        median_relative_se: rel.get(rel.len() / 2).copied().unwrap_or(f64::NAN),
-        max_relative_se: rel.last().copied().unwrap_or(f64::NAN),
-        signal_to_noise: sd / rms_se,
-    }
-}
+use surrogate::{
+    gain_shares, theta_vs_dv, Dataset, DescriptorStats, Lower, Mapping, TrainedModel, Validation,
+};
 
 /// Writes the figure into `dir` and returns the section, from the validation set and the
 /// `theta` and `dv` models in `models`.
@@ -61,29 +28,27 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
         Validation::run(&theta, &data)?,
         Validation::run(&dv, &data)?,
     );
-    for (t, d) in vt.errors.iter().zip(&vd.errors) {
-        for (k, output) in theta.meta().outputs.iter().enumerate() {
-            let (a, b) = (t.per_output[k], d.per_output[k]);
-            let lower = if a < b {
-                "Theta"
-            } else if b < a {
-                "Delta_v"
-            } else {
-                "tie"
-            };
-            let _ = writeln!(
-                md,
-                "| {} | {output} | {:.2} % | {:.2} % | {lower} |",
-                t.profile,
-                100.0 * a,
-                100.0 * b
-            );
-        }
+    for row in theta_vs_dv(&vt, &vd, Mapping::by_name("theta")?.outputs) {
+        let lower = match row.lower() {
+            Lower::Theta => "Theta",
+            Lower::Dv => "Delta_v",
+            Lower::Tie => "tie",
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.2} % | {:.2} % | {lower} |",
+            row.profile,
+            row.output,
+            100.0 * row.theta,
+            100.0 * row.dv
+        );
     }
     let share = |m: &TrainedModel, feature: &str| -> anyhow::Result<f64> {
         let gains = m.feature_importance()?;
-        let total: f64 = gains.iter().map(|g| g.1).sum();
-        Ok(gains.iter().find(|g| g.0 == feature).map_or(0.0, |g| g.1) / total)
+        Ok(gain_shares(&gains)
+            .iter()
+            .find(|g| g.0 == feature)
+            .map_or(0.0, |g| g.1))
     };
     let _ = writeln!(md, "\nShare of the model's gain: Theta {:.1} % of the theta mapping, Delta_v {:.1} % of the dv mapping.\n",
         100.0 * share(&theta, "Theta")?, 100.0 * share(&dv, "Delta_v")?);
@@ -122,7 +87,7 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
                 Ok(rows.iter().map(|&r| col[r]).collect())
             };
             let (v, se) = (pick(name)?, pick(&col::standard_error(name))?);
-            let s = stats(&v, &se);
+            let s = DescriptorStats::of(&v, &se);
             medians[d] = s.median_relative_se;
             let _ = writeln!(
                 md,
@@ -181,18 +146,4 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
     )?;
     md.push_str("\n![Theta and Delta_v along y](descriptors_along_y.svg)\n\n");
     Ok(md)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn stats_of_a_known_profile() {
-        let s = stats(&[1.0, 3.0, f64::NAN], &[0.1, 0.3, 0.2]);
-        assert!((s.variation - 2f64.sqrt() / 2.0).abs() < 1e-12);
-        assert!((s.median_relative_se - 0.1).abs() < 1e-12);
-        assert!((s.max_relative_se - 0.1).abs() < 1e-12);
-        assert!((s.signal_to_noise - 2f64.sqrt() / (0.05f64).sqrt()).abs() < 1e-12);
-    }
 }

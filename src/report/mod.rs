@@ -1,11 +1,10 @@
-//! The sections of `suspflow report`: simulation error against run time (`convergence`,
-//! `convergence_report`), surrogate error against training time (`surrogate_cost`), the two
-//! side by side (`side_by_side`), the stability sweep (`stability_sweep`) and Theta against
+//! The sections of `suspflow report`: simulation error against run time
+//! (`convergence_report`, measured by `sim::studies::convergence`), surrogate error against
+//! training time (`surrogate_cost`), the two side by side (`side_by_side`), the stability
+//! sweep (`plots::stability_map`, run by `sim::studies::stability_sweep`) and Theta against
 //! Delta_v (`descriptor_noise`).
 
-pub mod convergence;
 pub mod convergence_report;
 pub mod descriptor_noise;
 pub mod side_by_side;
-pub mod stability_sweep;
 pub mod surrogate_cost;

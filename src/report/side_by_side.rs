@@ -5,23 +5,12 @@
 //! close to the same reference in the same metric: measured among the partial runs when
 //! one gets there, else extrapolated from the longest
 //! with `error^2 = c (1/n + 1/reference)`.
-use crate::prediction_timing::time_mapping;
-use crate::report::convergence::{noise_constant, relative_l2, ConvergenceRun};
 use anyhow::Context;
 use schema::Observable;
+use sim::studies::convergence::{simulation_cost, ConvergenceRun, SimulationCost};
 use std::fmt::Write as _;
 use std::path::Path;
-use surrogate::{relative_l2_error, Dataset, Mapping, Predictor, Samples, MAPPINGS};
-
-/// How long a simulation must run to match an error.
-pub enum SimulationCost {
-    /// A partial run reached it: snapshots, total strain, wall time (s).
-    Measured(usize, f64, f64),
-    /// Beyond the partial runs: the same, from the noise law.
-    Extrapolated(f64, f64, f64),
-    /// Not below the reference's own noise, `sqrt(c / reference)`.
-    BelowReferenceNoise(f64),
-}
+use surrogate::{model_errors, relative_l2, time_mapping, Dataset, Predictor, MAPPINGS};
 
 /// One line of the side-by-side table.
 pub struct Row {
@@ -62,14 +51,14 @@ pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Re
                     models.display()
                 )
             })?;
-            let errors = surrogate_errors(&model, mapping, &data)?;
+            let errors = model_errors(&model, mapping, &data)?;
             let ms = time_mapping(mapping, models, &path, 20)?.median_ms;
             for (k, &output) in mapping.outputs.iter().enumerate() {
                 let min = model.meta().scaling.ranges[k].min;
                 let observable = Observable::from_name(output)
                     .with_context(|| format!("output `{output}` is not a profile observable"))?;
                 let (simulation, reference_noise) =
-                    simulation_cost(run, observable, min, errors[k]);
+                    simulation_cost(run, observable, errors[k], |a, b| relative_l2(a, b, min));
                 rows.push(Row {
                     scene_id: id.clone(),
                     mapping: mapping.name,
@@ -83,84 +72,6 @@ pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Re
         }
     }
     Ok(rows)
-}
-
-/// Relative L2 error of each output of `model` on `data`, scaled as in training.
-fn surrogate_errors(
-    model: &Predictor,
-    mapping: &Mapping,
-    data: &Dataset,
-) -> anyhow::Result<Vec<f64>> {
-    let samples = Samples::from_dataset(data, mapping)?;
-    let predicted = model.predict_features(samples.features.view())?;
-    let scaling = &model.meta().scaling;
-    let truth = scaling.scale(samples.outputs.view())?;
-    Ok(relative_l2_error(
-        truth.view(),
-        scaling.scale(predicted.view())?.view(),
-    )?)
-}
-
-/// The shortest run of `run`'s scene whose `output` profile is within `target` of the
-/// reference, in the scaled metric (offset `min`, the training minimum), and the
-/// reference's own noise in that metric.
-fn simulation_cost(
-    run: &ConvergenceRun,
-    output: Observable,
-    min: f64,
-    target: f64,
-) -> (SimulationCost, f64) {
-    let reference = run.reference.mean.column(output);
-    let points: Vec<(f64, f64)> = run
-        .partials
-        .iter()
-        .map(|p| {
-            (
-                p.average.snapshots as f64,
-                relative_l2(p.average.averages.mean.column(output), reference, min),
-            )
-        })
-        .collect();
-    let strain_at = |n: f64| run.summary.strain_to_steady + n * run.scene.file.run.sample_strain;
-    let r = run.reference_snapshots as f64;
-    let (last, &(n_last, e_last)) = (
-        &run.partials
-            .last()
-            .expect("a convergence run has partial profiles")
-            .average,
-        points.last().expect("one error per partial profile"),
-    );
-    let c = noise_constant(n_last, e_last, r);
-    let floor = (c / r).sqrt();
-    if let Some((p, _)) = run
-        .partials
-        .iter()
-        .zip(&points)
-        .find(|(_, (_, e))| *e <= target)
-    {
-        return (
-            SimulationCost::Measured(
-                p.average.snapshots,
-                strain_at(p.average.snapshots as f64),
-                p.average.wall_s,
-            ),
-            floor,
-        );
-    }
-    let inverse_n = target * target / c - 1.0 / r;
-    if inverse_n <= 0.0 {
-        return (SimulationCost::BelowReferenceNoise(floor), floor);
-    }
-    let wall_per_snapshot = (last.wall_s - run.wall_to_steady_s) / last.snapshots as f64;
-    let n = 1.0 / inverse_n;
-    (
-        SimulationCost::Extrapolated(
-            n,
-            strain_at(n),
-            run.wall_to_steady_s + n * wall_per_snapshot,
-        ),
-        floor,
-    )
 }
 
 /// Section 3 of the report.

@@ -4,12 +4,12 @@
 //! rounds changed, and validated on the unseen profiles (relative L2, eq 6.6, all profiles
 //! together); the shipped models are timed predicting one validation profile end to end.
 use crate::plots::loglog::{self, Line};
-use crate::prediction_timing::time_mapping;
 use anyhow::Context;
 use std::fmt::Write as _;
 use std::path::Path;
-use std::time::Instant;
-use surrogate::{median, Dataset, Predictor, TrainedModel, Validation, ALL_PROFILES, MAPPINGS};
+use surrogate::{
+    time_mapping, timed_fit, Dataset, Predictor, Validation, ALL_PROFILES, FITS, MAPPINGS,
+};
 
 /// Numbers of trees (boosting rounds) trained.
 pub const TREES: [u32; 6] = [3, 10, 30, 100, 300, 1000];
@@ -91,26 +91,6 @@ pub fn section(train: &Path, validate: &Path, models: &Path, dir: &Path) -> anyh
     Ok(md)
 }
 
-/// Fits timed per number of trees; the median is reported.
-const FITS: usize = 3;
-
-/// Trains `FITS` times with the same (seeded) parameters, so the models are identical, and
-/// returns the last model with the median training time in ms.
-fn timed_fit(
-    mapping: &surrogate::Mapping,
-    data: &Dataset,
-    params: &surrogate::HyperParameters,
-) -> anyhow::Result<(TrainedModel, f64)> {
-    let mut times = Vec::with_capacity(FITS);
-    let mut model = None;
-    for _ in 0..FITS {
-        let started = Instant::now();
-        model = Some(TrainedModel::train(mapping, data, params)?);
-        times.push(started.elapsed().as_secs_f64() * 1e3);
-    }
-    Ok((model.context("no fit")?, median(times)))
-}
-
 /// Median end-to-end prediction time (load + read + predict, 20 runs) of each shipped model
 /// on each validation profile, written alone to `dir/validation_<scene>.csv`.
 fn prediction_times(
@@ -145,7 +125,7 @@ fn prediction_times(
         let times: Vec<String> = MAPPINGS
             .iter()
             .map(|m| time_mapping(m, models, &path, 20).map(|t| format!("{:.2} ms", t.median_ms)))
-            .collect::<anyhow::Result<_>>()?;
+            .collect::<surrogate::Result<_>>()?;
         let _ = writeln!(md, "| {id} | {} | {} |", rows.len(), times.join(" | "));
     }
     md.push('\n');

@@ -145,6 +145,11 @@ pub enum SurrogateError {
         path: PathBuf,
         source: serde_json::Error,
     },
+
+    /// A table offered as a model's training data holds other bytes than the ones its
+    /// sidecar records.
+    #[error("{} is not the file model `{model}` was trained on (its hash differs)", path.display())]
+    NotTrainingData { path: PathBuf, model: String },
 }
 
 /// How the list of names `found` differs from `expected`: the names missing from it, those

@@ -43,9 +43,13 @@ pub use models::predictor::Predictor;
 pub use rheology::agreement::{agreement, Agreement};
 pub use rheology::ensemble::{build_ensemble, Ensemble, EnsembleSummary, ObservableSummary};
 pub use rheology::flow_curve_fit::{bin_viscosity, FlowCurvePoint, SeededJammingFit};
+pub use rheology::flow_curves::{
+    over_seeds, part_viscosity, seed_mean, state_rows, states, volume_fractions, State, StateFits,
+    StatePoint, StateRow, CONVENTIONS,
+};
 pub use rheology::jamming_law::{JammingLaw, SEEDS_LAW};
 pub use rheology::local_rheology::LocalRheology;
-pub use rheology::statistics::{mean_and_standard_error, median};
+pub use rheology::statistics::{mean_and_standard_error, median, DescriptorStats};
 pub use validation::baselines::{evaluate_baseline, Baseline, BaselineScore};
 pub use validation::comparison::{compare_contenders, ComparisonRow, Contender};
 pub use validation::cross_validation::{
@@ -58,6 +62,10 @@ pub use validation::family_cv::{
 pub use validation::family_folds::{
     family_names, leave_one_family_out, tuning_folds, FamilyFold, LeftOut, MIN_TUNING_FAMILIES,
 };
+pub use validation::profile_error::{model_errors, relative_l2};
+pub use validation::profile_rows::{gain_shares, records, theta_vs_dv, Lower, Record, ThetaVsDv};
+pub use validation::timing::{time_mapping, timed_fit, Timing, FITS};
+pub use validation::training_overlap::{overlap_warning, training_samples};
 pub use validation::tuning::{standard_grid, Tuning};
 pub use validation::unseen_profiles::{
     profile_names, seeds_validation_error, ProfileError, Validation, ALL_PROFILES, IN_DOMAIN,

@@ -1,13 +1,15 @@
 //! Stage 2, rheology and its statistics: the local rheology fitted on the training rows
 //! (the backbone whose residual the trees learn), the jamming law of homogeneous shear and
-//! its flow-curve fits, one Brent minimisation for both fits, the ensemble statistics of
-//! replicated runs and the z-score agreement of two profiles.
+//! its flow-curve fits, the flow curves by state (means over seeds, per-state fits, the
+//! Green-Kubo combination), one Brent minimisation for both fits, the ensemble statistics
+//! of replicated runs and the z-score agreement of two profiles.
 
 pub mod agreement;
 pub mod backbone;
 pub mod brent;
 pub mod ensemble;
 pub mod flow_curve_fit;
+pub mod flow_curves;
 pub mod jamming_law;
 pub mod local_rheology;
 pub mod relaxation_fit;

@@ -1,10 +1,16 @@
 //! Stage 4, validation: cross-validation by simulation and by profile family, the choice of
-//! hyper-parameters, linear baselines, and the error on unseen flow profiles.
+//! hyper-parameters, linear baselines, the error on unseen flow profiles and the rows
+//! printed from it, the overlap of validation and training rows, the relative L2 error of
+//! a profile against a reference, and the timings of prediction and training.
 
 pub mod baselines;
 pub mod comparison;
 pub mod cross_validation;
 pub mod family_cv;
 pub mod family_folds;
+pub mod profile_error;
+pub mod profile_rows;
+pub mod timing;
+pub mod training_overlap;
 pub mod tuning;
 pub mod unseen_profiles;

@@ -1,9 +1,17 @@
-//! End-to-end timing of a saved model: load, read a table, predict (what `bench-predict`
-//! reports and the report's surrogate sections reuse), with the median of repeated timings.
+//! Timings of the surrogate: end-to-end prediction by a saved model (load, read a table,
+//! predict; what `bench-predict` reports and the report's surrogate sections reuse) and
+//! training, each with the median of repeated timings.
 use serde::Serialize;
 use std::path::Path;
 use std::time::{Duration, Instant};
-use surrogate::{median, Dataset, Mapping, Predictor};
+
+use crate::data::dataset::Dataset;
+use crate::data::mapping::Mapping;
+use crate::error::Result;
+use crate::models::booster::HyperParameters;
+use crate::models::model::TrainedModel;
+use crate::models::predictor::Predictor;
+use crate::rheology::statistics::median;
 
 /// Timings of one mapping, in milliseconds.
 #[derive(Serialize)]
@@ -22,13 +30,15 @@ pub struct Timing {
     pub predict_ms: f64,
 }
 
-/// Times `repeat` end-to-end predictions of `input` by the model of `mapping` in `models`.
+/// Times `repeat` (at least 1) end-to-end predictions of `input` by the model of `mapping`
+/// in `models`: wall-clock milliseconds of loading the model, reading the table and
+/// predicting it.
 pub fn time_mapping(
     mapping: &Mapping,
     models: &Path,
     input: &Path,
     repeat: usize,
-) -> anyhow::Result<Timing> {
+) -> Result<Timing> {
     let mut stages: Vec<[Duration; 3]> = Vec::with_capacity(repeat);
     let mut rows = 0;
     for _ in 0..repeat {
@@ -59,4 +69,31 @@ pub fn time_mapping(
         read_ms: stage_median(&|s| s[1]),
         predict_ms: stage_median(&|s| s[2]),
     })
+}
+
+/// Fits timed by [`timed_fit`]; the median is reported.
+pub const FITS: usize = 3;
+
+/// Trains `mapping` on `data` [`FITS`] times with the same (seeded) parameters, so the
+/// models are identical, and returns the last model with the median wall-clock training
+/// time in milliseconds.
+pub fn timed_fit(
+    mapping: &Mapping,
+    data: &Dataset,
+    params: &HyperParameters,
+) -> Result<(TrainedModel, f64)> {
+    let fit = || -> Result<(TrainedModel, f64)> {
+        let started = Instant::now();
+        let model = TrainedModel::train(mapping, data, params)?;
+        Ok((model, started.elapsed().as_secs_f64() * 1e3))
+    };
+    let (mut model, first) = fit()?;
+    let mut times = Vec::with_capacity(FITS);
+    times.push(first);
+    for _ in 1..FITS {
+        let (next, ms) = fit()?;
+        model = next;
+        times.push(ms);
+    }
+    Ok((model, median(times)))
 }

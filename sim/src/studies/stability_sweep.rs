@@ -1,12 +1,12 @@
 //! Stability on stiff and extreme cases: one parameter at a time away
 //! from a base scene (k_n, xi_min, phi, amplitude, size ratio), each at several multiples of
-//! the automatic time step. Each case is a short run through the ordinary `sim::run`, so
+//! the automatic time step. Each case is a short run through the ordinary [`crate::run`], so
 //! the blow-up checks under test are the real ones.
+use crate::input::integrator::Integrator;
+use crate::input::scene::{Scene, SceneFile};
+use crate::run::RunOptions;
+use crate::SimError;
 use rayon::prelude::*;
-use sim::input::integrator::Integrator;
-use sim::input::scene::{Scene, SceneFile};
-use sim::run::RunOptions;
-use sim::SimError;
 
 /// How long each case runs, and how big the base box is.
 #[derive(Clone, Copy)]
@@ -142,7 +142,7 @@ fn scene_file(case: &Case, size: SweepSize) -> SceneFile {
     f
 }
 
-/// Height `L_y` of a sweep box `edge` wide: 1.5 edges, rounded up to whole 2a bins.
+/// Height `L_y` of a sweep box `edge` wide (units a): 1.5 edges, rounded up to whole 2a bins.
 pub fn box_height(edge: f64) -> f64 {
     (edge * 0.75).ceil() * 2.0
 }
@@ -173,7 +173,7 @@ fn run_case(case: Case, size: SweepSize) -> CaseResult {
     let gain = Scene::from_file(explicit, false)
         .map_or(f64::NAN, |e| t.dt / result.case.dt_factor / e.timestep.dt);
     (result.dt, result.dt_limit) = (t.dt, format!("{}, {gain:.0}x explicit", t.limit));
-    match sim::run::run(&scene, &RunOptions::default(), &mut |_, _| {}) {
+    match crate::run::run(&scene, &RunOptions::default(), &mut |_, _| {}) {
         Ok(out) => {
             result.max_overlap = out.summary.max_overlap;
             result.momentum_residual = out.summary.momentum_residual.unwrap_or(f64::NAN);

@@ -1,0 +1,276 @@
+//! The flow curves of a grid of homogeneous-shear runs by state (docs/physics.md sections
+//! 10 and 11): the runs grouped into states (friction coefficient, Peclet number), means
+//! over seeds with standard errors from their spread, the jamming law fitted per state
+//! under each stress convention, and the seeds' Pe -> 0 estimate, the hydrodynamic
+//! viscosity plus the Green-Kubo Brownian one. Plain numbers in: the caller reads the runs.
+//!
+//! Every `eta_r` is a relative viscosity `-sigma_xy / (eta gdot)` (dimensionless), given as
+//! `(mean, standard error)`.
+
+use crate::error::Result;
+use crate::rheology::flow_curve_fit::{FlowCurvePoint, SeededJammingFit};
+use crate::rheology::jamming_law::SEEDS_LAW;
+use crate::rheology::statistics::mean_and_standard_error;
+
+/// A state of the flow curves: friction coefficient and Peclet number (infinite without
+/// Brownian forces).
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+pub struct State {
+    pub mu_p: f64,
+    pub peclet: f64,
+}
+
+/// Index in [`StatePoint::parts`] of the hydrodynamic (lubrication) part.
+const HYDRODYNAMIC: usize = 1;
+/// Index of the one-body drag part.
+const DRAG: usize = 2;
+/// Index of the structural Brownian part.
+const BROWNIAN: usize = 3;
+
+/// One finished run on the flow curves.
+#[derive(Clone, Copy, Debug)]
+pub struct StatePoint {
+    pub state: State,
+    /// The grid's volume fraction (the realised one is `phi_actual`).
+    pub phi: f64,
+    pub seed: u64,
+    /// Realised volume fraction.
+    pub phi_actual: f64,
+    /// `eta_r` of the box's pair stresslets (contact + lubrication).
+    pub eta_r: (f64, f64),
+    /// `eta_r` of the bins' `sigma_xy` (the scene's stress convention), [`bin_viscosity`].
+    ///
+    /// [`bin_viscosity`]: crate::rheology::flow_curve_fit::bin_viscosity
+    pub eta_r_bins: (f64, f64),
+    /// The parts of `eta_r` ([`part_viscosity`]), in the order contact, hydrodynamic
+    /// (lubrication), one-body drag, structural Brownian; NaN where the run has none.
+    pub parts: [(f64, f64); 4],
+    /// The box's friction coefficient `mu = sigma_xy / P` and viscous number `J`.
+    pub mu: (f64, f64),
+    pub j: (f64, f64),
+    /// The Green-Kubo Brownian viscosity over eta at this volume fraction, when given.
+    pub green_kubo: Option<(f64, f64)>,
+}
+
+/// `eta_r = -sigma_xy / (eta gdot)` of a stress part `sigma_xy` (mean, standard error) at
+/// `eta_gdot`, the fluid viscosity times the imposed shear rate.
+pub fn part_viscosity(mean: f64, se: f64, eta_gdot: f64) -> (f64, f64) {
+    // `+ 0.0` turns the -0 of a zero part (no Brownian forces) into 0.
+    (-mean / eta_gdot + 0.0, se / eta_gdot)
+}
+
+impl StatePoint {
+    /// The seeds' low-Pe estimate (paper section 4, Fig. 6a): the hydrodynamic viscosity
+    /// (lubrication and one-body drag) plus the Green-Kubo Brownian viscosity of the
+    /// unsheared suspension at the same volume fraction, errors added in quadrature; NaN
+    /// without one.
+    pub fn eta_r_hydrodynamic_green_kubo(&self) -> (f64, f64) {
+        let Some((gk, gk_se)) = self.green_kubo else {
+            return (f64::NAN, f64::NAN);
+        };
+        let ((h, h_se), (d, d_se)) = (self.parts[HYDRODYNAMIC], self.parts[DRAG]);
+        (h + d + gk, h_se.hypot(d_se).hypot(gk_se))
+    }
+
+    /// `eta_r` with the structural Brownian stress added (the seeds' low-Pe fit adds a
+    /// Brownian viscosity to the hydrodynamic one), errors added in quadrature.
+    pub fn eta_r_with_brownian(&self) -> (f64, f64) {
+        let (b, b_se) = self.parts[BROWNIAN];
+        (self.eta_r.0 + b, self.eta_r.1.hypot(b_se))
+    }
+}
+
+/// A stress convention: its name, and the `eta_r` of a point under it.
+pub type Convention = (&'static str, fn(&StatePoint) -> (f64, f64));
+
+/// The stress conventions the jamming law is fitted under.
+pub const CONVENTIONS: [Convention; 4] = [
+    ("pair stresslets (box)", |p| p.eta_r),
+    ("bins, scene's stress convention", |p| p.eta_r_bins),
+    (
+        "pair stresslets + structural Brownian",
+        StatePoint::eta_r_with_brownian,
+    ),
+    (
+        "hydrodynamic + drag + Green-Kubo Brownian (the seeds' Pe -> 0)",
+        StatePoint::eta_r_hydrodynamic_green_kubo,
+    ),
+];
+
+/// The distinct states of `points`, ordered by friction, then Peclet number.
+pub fn states(points: &[StatePoint]) -> Vec<State> {
+    let mut states: Vec<State> = Vec::new();
+    for p in points {
+        if !states.contains(&p.state) {
+            states.push(p.state);
+        }
+    }
+    states.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    states
+}
+
+/// The grid's distinct volume fractions, ascending.
+pub fn volume_fractions(points: &[StatePoint]) -> Vec<f64> {
+    let mut phis: Vec<f64> = points.iter().map(|p| p.phi).collect();
+    phis.sort_by(f64::total_cmp);
+    phis.dedup();
+    phis
+}
+
+/// The mean over seeds of `values` (mean, standard error), with the standard error of that
+/// mean from their spread, `sqrt(s^2 / n)`; a single run's own value and error when there
+/// is one.
+pub fn seed_mean(values: &[(f64, f64)]) -> (f64, f64) {
+    match values {
+        [one] => *one,
+        _ => mean_and_standard_error(&values.iter().map(|v| v.0).collect::<Vec<_>>()),
+    }
+}
+
+/// [`seed_mean`] of `value` at each Peclet number of the points `sel`: `(Pe, mean,
+/// standard error)`, ascending in Pe, non-finite left out.
+pub fn over_seeds(
+    sel: &[&StatePoint],
+    value: impl Fn(&StatePoint) -> (f64, f64),
+) -> Vec<(f64, f64, f64)> {
+    let mut by_pe: Vec<(f64, Vec<(f64, f64)>)> = Vec::new();
+    for p in sel {
+        let v = value(p);
+        match by_pe.iter_mut().find(|(pe, _)| *pe == p.state.peclet) {
+            Some((_, vs)) => vs.push(v),
+            None => by_pe.push((p.state.peclet, vec![v])),
+        }
+    }
+    by_pe.sort_by(|a, b| a.0.total_cmp(&b.0));
+    by_pe
+        .into_iter()
+        .filter(|(pe, _)| pe.is_finite())
+        .map(|(pe, vs)| {
+            let (m, se) = seed_mean(&vs);
+            (pe, m, se)
+        })
+        .filter(|(_, m, se)| m.is_finite() && se.is_finite())
+        .collect()
+}
+
+/// The jamming law of one state under each of the [`CONVENTIONS`] (an error where its
+/// points cannot be fitted, e.g. fewer than three volume fractions).
+pub struct StateFits {
+    pub state: State,
+    pub fits: Vec<Result<SeededJammingFit>>,
+}
+
+impl StateFits {
+    /// The jamming law `eta_r = (1 - phi/phi_J)^(-lambda)` fitted to the points of `state`
+    /// at their realised volume fractions, under each convention: to every point and to
+    /// each seed's points ([`SeededJammingFit`]).
+    pub fn fit(points: &[StatePoint], state: State) -> Self {
+        let sel: Vec<&StatePoint> = points.iter().filter(|p| p.state == state).collect();
+        let fits = CONVENTIONS
+            .iter()
+            .map(|(_, value)| {
+                let points: Vec<FlowCurvePoint> = sel
+                    .iter()
+                    .map(|p| FlowCurvePoint {
+                        seed: p.seed,
+                        phi: p.phi_actual,
+                        eta_r: value(p).0,
+                    })
+                    .collect();
+                SeededJammingFit::fit(&points)
+            })
+            .collect();
+        StateFits { state, fits }
+    }
+}
+
+/// One state at one volume fraction, each value the [`seed_mean`] of its runs.
+pub struct StateRow {
+    /// Realised volume fraction.
+    pub phi: f64,
+    /// Number of runs (seeds).
+    pub seeds: usize,
+    pub eta_r: (f64, f64),
+    pub eta_r_bins: (f64, f64),
+    /// The [`StatePoint::parts`].
+    pub parts: [(f64, f64); 4],
+    pub mu: (f64, f64),
+    pub j: (f64, f64),
+    /// The seeds' law ([`SEEDS_LAW`]) at `phi`.
+    pub seeds_law: f64,
+}
+
+/// The rows of `state`, one per volume fraction of `points` that it has runs at.
+pub fn state_rows(points: &[StatePoint], state: State) -> Vec<StateRow> {
+    let at_state: Vec<&StatePoint> = points.iter().filter(|p| p.state == state).collect();
+    volume_fractions(points)
+        .into_iter()
+        .filter_map(|phi| {
+            let sel: Vec<&StatePoint> = at_state.iter().copied().filter(|p| p.phi == phi).collect();
+            if sel.is_empty() {
+                return None;
+            }
+            let col = |f: &dyn Fn(&StatePoint) -> (f64, f64)| {
+                seed_mean(&sel.iter().map(|p| f(p)).collect::<Vec<_>>())
+            };
+            let phi = col(&|p| (p.phi_actual, 0.0)).0;
+            Some(StateRow {
+                phi,
+                seeds: sel.len(),
+                eta_r: col(&|p| p.eta_r),
+                eta_r_bins: col(&|p| p.eta_r_bins),
+                parts: std::array::from_fn(|q| col(&|p| p.parts[q])),
+                mu: col(&|p| p.mu),
+                j: col(&|p| p.j),
+                seeds_law: SEEDS_LAW.eta_r(phi),
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(peclet: f64, seed: u64, eta_r: f64) -> StatePoint {
+        StatePoint {
+            state: State { mu_p: 0.0, peclet },
+            phi: 0.5,
+            seed,
+            phi_actual: 0.5,
+            eta_r: (eta_r, 0.1),
+            eta_r_bins: (eta_r, 0.1),
+            parts: [(1.0, 0.3), (2.0, 0.4), (0.5, 0.0), (0.25, 0.0)],
+            mu: (0.1, 0.0),
+            j: (0.01, 0.0),
+            green_kubo: None,
+        }
+    }
+
+    #[test]
+    fn one_seed_keeps_its_own_error_and_two_their_spread() {
+        assert_eq!(seed_mean(&[(2.0, 0.1)]), (2.0, 0.1));
+        let (m, se) = seed_mean(&[(2.0, 0.1), (4.0, 0.1)]);
+        assert_eq!((m, se), (3.0, 1.0));
+        let points = [
+            point(10.0, 1, 2.0),
+            point(10.0, 2, 4.0),
+            point(f64::INFINITY, 1, 5.0),
+        ];
+        let sel: Vec<&StatePoint> = points.iter().collect();
+        assert_eq!(over_seeds(&sel, |p| p.eta_r), vec![(10.0, 3.0, 1.0)]);
+        assert_eq!(states(&points).len(), 2);
+    }
+
+    #[test]
+    fn the_green_kubo_estimate_adds_hydrodynamic_drag_and_brownian() {
+        let mut p = point(10.0, 1, 2.0);
+        assert!(p.eta_r_hydrodynamic_green_kubo().0.is_nan());
+        p.green_kubo = Some((1.0, 0.3));
+        let (eta, se) = p.eta_r_hydrodynamic_green_kubo();
+        assert_eq!(eta, 3.5);
+        assert!((se - 0.5).abs() < 1e-15);
+        assert_eq!(p.eta_r_with_brownian(), (2.25, 0.1));
+        assert_eq!(part_viscosity(0.0, 0.0, 2.0).0.to_bits(), 0.0f64.to_bits());
+    }
+}

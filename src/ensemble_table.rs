@@ -1,8 +1,9 @@
 //! The ensemble table of a dataset with replicas (`surrogate::rheology::ensemble`), written
 //! beside the dataset as `<stem>.ensemble.csv` with its summary `<stem>.ensemble.json`.
+use schema::RunTable;
 use std::path::{Path, PathBuf};
 pub use surrogate::EnsembleSummary;
-use surrogate::{build_ensemble, Dataset, Ensemble};
+use surrogate::{build_ensemble, Ensemble};
 
 /// The ensemble files beside dataset `path`: `<stem>.ensemble.csv` and `<stem>.ensemble.json`.
 pub fn paths(path: &Path) -> [PathBuf; 2] {
@@ -13,10 +14,9 @@ pub fn paths(path: &Path) -> [PathBuf; 2] {
     })
 }
 
-/// The ensemble table and summary of the per-run table `text` of `dataset`.
-pub fn build(dataset: &Path, text: &str) -> anyhow::Result<Ensemble> {
-    let data = Dataset::from_csv_bytes(text.as_bytes(), &dataset.display().to_string())?;
-    Ok(build_ensemble(&data)?)
+/// The ensemble table and summary of the per-run table `table` of `dataset`.
+pub fn build(dataset: &Path, table: &RunTable) -> anyhow::Result<Ensemble> {
+    Ok(build_ensemble(table, &dataset.display().to_string())?)
 }
 
 /// Writes `ensemble` beside `dataset` (atomically) and returns its summary.

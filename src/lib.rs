@@ -4,14 +4,11 @@
 //! the helpers the commands share. Physics notes: `docs/physics.md`.
 
 pub mod commands;
-mod dataset_file;
 mod ensemble_table;
 mod file_lock;
-mod local_viscosity;
 mod output_guard;
 mod plots;
 mod report;
-mod run_rows;
 mod scene_work;
 mod surrogate_text;
 mod threads;

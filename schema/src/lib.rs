@@ -1,9 +1,20 @@
-//! The schema of suspflow's tables, with no dependencies: the simulator that writes them,
-//! the surrogate that learns from them and the commands that read them take the column
-//! names and their order from here ([`columns`]), and index the observables by
-//! [`Observable`].
+//! The schema of suspflow's tables: the simulator that writes them, the surrogate that
+//! learns from them and the commands that read them take the column names and their order
+//! from here ([`columns`]) and index the observables by [`Observable`]; a per-run table is
+//! read and checked by one reader ([`RunTable`]), on which merging and ensembles build;
+//! tables are identified by their [`Fingerprint`].
 
 pub mod columns;
+mod error;
+pub mod excerpt;
+pub mod fingerprint;
 pub mod observable;
+pub mod run_rows;
+pub mod run_table;
+pub mod scene_name;
 
+pub use error::{Result, SchemaError};
+pub use excerpt::excerpt;
+pub use fingerprint::Fingerprint;
 pub use observable::Observable;
+pub use run_table::{RunKey, RunTable};

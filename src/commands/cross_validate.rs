@@ -46,7 +46,7 @@ pub struct Args {
 struct Record<'a> {
     data: &'a str,
     /// FNV-1a 64 hash of the data file, 16 hex digits.
-    fnv1a_64: String,
+    fnv1a_64: schema::Fingerprint,
     table: Option<String>,
     families: Vec<String>,
     models: String,
@@ -107,7 +107,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let seconds = started.elapsed().as_secs_f64();
     let record = Record {
         data: dataset.source_name(),
-        fnv1a_64: format!("{:016x}", dataset.fingerprint()),
+        fnv1a_64: dataset.fingerprint(),
         table,
         families,
         models: args.models.display().to_string(),

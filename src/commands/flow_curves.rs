@@ -15,7 +15,6 @@
 //! as the thesis' LAMMPS runs report), and the bins' `sigma_xy` under the scene's
 //! `[observables] stress` convention (the same pair stresslets by default; with the
 //! one-body drag stresslet under `pairs+drag`, as the shipped datasets were made).
-use crate::local_viscosity::{self, LocalBand};
 use crate::plots::data_and_laws::{self, Points};
 use crate::plots::loglog::Line;
 use crate::scene_work::{Recorded, SceneStatus, SceneWork};
@@ -27,6 +26,7 @@ use sim::sampling::shear_rheology::ShearRheology;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use surrogate::rheology::local_viscosity::{self, LocalBand};
 use surrogate::{
     bin_viscosity, over_seeds, part_viscosity, state_rows, states, volume_fractions, Dataset,
     JammingLaw, State, StateFits, StatePoint, CONVENTIONS, SEEDS_LAW,
@@ -229,7 +229,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .map(|state| StateFits::fit(&curve, state))
         .collect();
     let local = match &args.local {
-        Some(path) => Some(local_viscosity::bands(path, &LOCAL_BANDS)?),
+        Some(path) => Some(local_viscosity::bands(
+            &Dataset::read_csv(path).with_context(|| format!("reading {}", path.display()))?,
+            &LOCAL_BANDS,
+        )?),
         None => None,
     };
     let phis = volume_fractions(&curve);

@@ -18,13 +18,13 @@
 //! An existing `<FILE>` (or run table, or ensemble table) is replaced only if this grid wrote
 //! it (its work directory holds one of the grid's runs) or with `--force`; a lock in the work
 //! directory keeps a second run on the same output out.
-use crate::dataset_file::DatasetFile;
 use crate::ensemble_table;
 use crate::file_lock::FileLock;
 use crate::output_guard;
 use crate::scene_work::{SceneStatus, SceneSummary, SceneWork};
 use anyhow::{bail, Context};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
+use schema::RunTable;
 use sim::input::grid::{Grid, GridRun};
 use sim::run::{Phase, RunOptions};
 use sim::SimError;
@@ -359,7 +359,7 @@ fn write_outputs(
     outputs: &Outputs,
     scenes: &[&GridRun],
 ) -> anyhow::Result<Option<ensemble_table::EnsembleSummary>> {
-    let mut dataset = DatasetFile {
+    let mut dataset = RunTable {
         header: schema::columns::header(),
         runs: Default::default(),
     };
@@ -386,7 +386,7 @@ fn write_outputs(
         let work = SceneWork::new(&outputs.work, &gs.label());
         let (status, reason, summary) = match work.status()? {
             SceneStatus::Done(summary) => {
-                let part = DatasetFile::read(&work.profile_csv())?;
+                let part = RunTable::read(&work.profile_csv())?;
                 dataset.absorb(part, &work.profile_csv().display().to_string())?;
                 ("done", String::new(), Some(summary))
             }
@@ -432,7 +432,7 @@ fn write_outputs(
         }
         return Ok(None);
     }
-    let ensemble = ensemble_table::build(&outputs.dataset, &dataset.to_text())?;
+    let ensemble = ensemble_table::build(&outputs.dataset, &dataset)?;
     Ok(Some(ensemble_table::write_beside(
         &outputs.dataset,
         ensemble,
@@ -453,7 +453,7 @@ fn report(
             SceneStatus::Pending => pending += 1,
         }
     }
-    let rows = DatasetFile::read(&outputs.dataset)?.rows();
+    let rows = RunTable::read(&outputs.dataset)?.rows();
     println!(
         "dataset: {} ({rows} rows from {done} runs)",
         outputs.dataset.display()

@@ -3,9 +3,9 @@
 //! When a scene has several replicas (seeds), the ensemble table and its summary go beside
 //! the output (`<stem>.ensemble.csv`, `<stem>.ensemble.json`, see `crate::ensemble_table`),
 //! replaced as the output is.
-use crate::dataset_file::DatasetFile;
 use crate::ensemble_table;
 use anyhow::bail;
+use schema::RunTable;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -35,9 +35,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "an earlier dataset or its ensemble table",
         "choose another --out",
     )?;
-    let mut merged: Option<DatasetFile> = None;
+    let mut merged: Option<RunTable> = None;
     for path in &args.parts {
-        let part = DatasetFile::read(path)?;
+        let part = RunTable::read(path)?;
         match merged.as_mut() {
             None => merged = Some(part),
             Some(m) => m.absorb(part, &path.display().to_string())?,
@@ -48,7 +48,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // Everything is checked before anything is written: a failed merge leaves no output.
     let ensemble = merged
         .has_replicas()
-        .then(|| ensemble_table::build(&args.out, &text))
+        .then(|| ensemble_table::build(&args.out, &merged))
         .transpose()?;
     sim::output::atomic_write::write_atomic(&args.out, text.as_bytes())?;
     println!(

@@ -115,7 +115,7 @@ fn scene_order<'a>(ids: &'a [String], data: &Dataset) -> anyhow::Result<Vec<&'a 
         if scenes.last() == Some(&id.as_str()) {
             continue;
         }
-        sim::input::scene_name::check(id).map_err(|m| {
+        schema::scene_name::check(id).map_err(|m| {
             anyhow::anyhow!(
                 "{}: data row {}, column `scene_id`: {m}",
                 data.source_name(),

@@ -56,7 +56,7 @@ const QUICK_BOX: f64 = 8.0;
 /// A report name names a folder inside `--out`: the scene-name rule (no path separator, no
 /// leading '.') keeps it there.
 fn report_name(name: &str) -> Result<String, String> {
-    sim::input::scene_name::check(name).map(|()| name.to_string())
+    schema::scene_name::check(name).map(|()| name.to_string())
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {

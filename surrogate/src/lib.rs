@@ -27,7 +27,6 @@ pub mod rheology;
 pub mod validation;
 
 pub use data::dataset::{Dataset, GROUP_COLUMN, PROFILE_COLUMN};
-pub use data::excerpt::excerpt;
 pub use data::mapping::{Mapping, MAPPINGS};
 pub use data::physical_range::{clip_to_physical_range, physical_range, PHI_LOC_MAX};
 pub use data::samples::Samples;
@@ -50,6 +49,7 @@ pub use rheology::flow_curves::{
 pub use rheology::jamming_law::{JammingLaw, SEEDS_LAW};
 pub use rheology::local_rheology::LocalRheology;
 pub use rheology::statistics::{mean_and_standard_error, median, DescriptorStats};
+pub use schema::excerpt;
 pub use validation::baselines::{evaluate_baseline, Baseline, BaselineScore};
 pub use validation::comparison::{compare_contenders, ComparisonRow, Contender};
 pub use validation::cross_validation::{

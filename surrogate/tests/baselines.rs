@@ -13,7 +13,7 @@ fn samples_of(features: Array2<f64>, output: impl Fn(&[f64]) -> f64) -> Samples 
         Array2::from_shape_fn((n, 1), |(i, _)| output(features.row(i).as_slice().unwrap()));
     Samples {
         source_name: "exact".to_owned(),
-        source_fingerprint: 0,
+        source_fingerprint: schema::Fingerprint(0),
         feature_names: vec!["a".to_owned(), "b".to_owned()],
         output_names: vec!["y".to_owned()],
         features,

@@ -11,5 +11,4 @@ pub mod replica_seeds;
 pub mod run_cost;
 pub mod scene;
 pub mod scene_limits;
-pub mod scene_name;
 pub mod thermal_scales;

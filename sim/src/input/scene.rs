@@ -7,11 +7,11 @@ use crate::input::integrator::Integrator;
 use crate::input::memory_estimate;
 use crate::input::run_cost::RunCost;
 use crate::input::scene_limits::{self, show, PHI_MAX};
-use crate::input::scene_name;
 use crate::input::thermal_scales::{self, ThermalScales};
 use crate::integrate::timestep::TimeStep;
 use crate::sampling::conventions::Conventions;
 use crate::state::particles::sphere_volume;
+use schema::scene_name;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

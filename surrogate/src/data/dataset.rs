@@ -12,10 +12,10 @@ use std::path::Path;
 
 use ndarray::Array2;
 
-use crate::data::excerpt::excerpt;
 use crate::data::files;
-use crate::data::fingerprint::fnv1a_64;
 use crate::error::{Result, SurrogateError};
+use schema::excerpt;
+use schema::Fingerprint;
 
 /// The column whose value names the simulation a row comes from: the grouping key for
 /// cross-validation, so that rows of one simulation never sit on both sides of a split.
@@ -43,7 +43,7 @@ pub struct Dataset {
     n_rows: usize,
     /// The line of the source on which each data row starts (the header is line 1).
     lines: Vec<u64>,
-    fingerprint: u64,
+    fingerprint: Fingerprint,
 }
 
 /// One column as read.
@@ -134,7 +134,7 @@ impl Dataset {
             columns: cells.into_iter().map(Column::new).collect(),
             n_rows,
             lines,
-            fingerprint: fnv1a_64(bytes),
+            fingerprint: Fingerprint::of(bytes),
         })
     }
 
@@ -159,7 +159,7 @@ impl Dataset {
     }
 
     /// FNV-1a 64 hash of the CSV bytes the dataset was read from.
-    pub fn fingerprint(&self) -> u64 {
+    pub fn fingerprint(&self) -> Fingerprint {
         self.fingerprint
     }
 

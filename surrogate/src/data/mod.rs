@@ -2,9 +2,7 @@
 //! samples, the outputs' scaling and physical ranges, and the training domain.
 
 pub mod dataset;
-pub mod excerpt;
 pub(crate) mod files;
-pub(crate) mod fingerprint;
 pub mod mapping;
 pub mod physical_range;
 pub mod samples;

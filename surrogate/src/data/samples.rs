@@ -16,7 +16,7 @@ pub struct Samples {
     /// Where the rows came from.
     pub source_name: String,
     /// FNV-1a 64 hash of the source file's bytes.
-    pub source_fingerprint: u64,
+    pub source_fingerprint: schema::Fingerprint,
     pub feature_names: Vec<String>,
     pub output_names: Vec<String>,
     /// Rows x features, all finite.

@@ -31,6 +31,7 @@ use std::collections::HashMap;
 
 use ndarray::{ArrayView1, ArrayView2, Axis};
 use rayon::prelude::*;
+use schema::Fingerprint;
 use serde::{Deserialize, Serialize};
 
 use crate::data::samples::Samples;
@@ -126,7 +127,7 @@ pub struct TrainingDomain {
     pub features: Vec<String>,
     /// FNV-1a 64 hash of the training source's bytes (16 hex digits), as in the model's
     /// sidecar: a domain read beside a model must be of its training rows.
-    pub training_fnv1a_64: String,
+    pub training_fnv1a_64: Fingerprint,
     /// One axis per feature, in the model's feature order.
     pub axes: Vec<FeatureAxis>,
     /// Leave-one-simulation-out nearest-neighbour distance quantile (domain coordinates).
@@ -172,7 +173,7 @@ impl TrainingDomain {
         let threshold = nearest[rank].max(f64::EPSILON);
         Ok(TrainingDomain {
             features: samples.feature_names.clone(),
-            training_fnv1a_64: format!("{:016x}", samples.source_fingerprint),
+            training_fnv1a_64: samples.source_fingerprint,
             axes,
             threshold,
             points,

@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use ndarray::{Array2, ArrayView2};
+use schema::Fingerprint;
 use serde::{Deserialize, Serialize};
 
 use crate::data::dataset::Dataset;
@@ -47,7 +48,7 @@ pub struct TrainingData {
     /// The file (or other source) the rows came from.
     pub source: String,
     /// FNV-1a 64 hash of that source's bytes, as 16 hex digits.
-    pub fnv1a_64: String,
+    pub fnv1a_64: Fingerprint,
     /// Number of rows used for training.
     pub rows: usize,
     /// Rows of the source left out because a cell of the mapping's columns was empty.
@@ -95,7 +96,7 @@ impl TrainedModel {
             hyper_parameters: params.clone(),
             training_data: TrainingData {
                 source: samples.source_name.clone(),
-                fnv1a_64: format!("{:016x}", samples.source_fingerprint),
+                fnv1a_64: samples.source_fingerprint,
                 rows: samples.n_rows(),
                 skipped_rows: samples.skipped_rows,
             },

@@ -16,6 +16,7 @@
 //! realisations). It also gives the median relative standard error |se / mean|, over all
 //! bins and over the bins away from the velocity extrema.
 use schema::columns as col;
+use schema::RunTable;
 use serde::Serialize;
 
 use crate::data::dataset::Dataset;
@@ -100,14 +101,13 @@ struct Gathered {
     relative_away: Vec<f64>,
 }
 
-/// Builds the ensemble table of a per-run table: `data` with the dataset columns, each
-/// scene's rows together and, within a scene, each seed's rows together (as `generate` and
-/// `merge` write them). The replicas of a scene must have the same bins (`y`).
-pub fn build_ensemble(data: &Dataset) -> Result<Ensemble> {
-    let source = data.source_name();
+/// Builds the ensemble table of a per-run table with the dataset columns (`source` names it
+/// in messages). The table's reader has grouped the rows by scene and run and checked that
+/// the replicas of a scene share its bins ([`RunTable`]).
+pub fn build_ensemble(table: &RunTable, source: &str) -> Result<Ensemble> {
+    let data = Dataset::from_csv_bytes(table.to_text().as_bytes(), source)?;
     let ids = data.group_keys()?;
     let seeds = data.text(col::SEED)?;
-    let y = data.column(col::Y)?;
     let u_inf = data.column(col::U_INF)?;
     let [profile, l_y, phi, y_text, u_inf_text] =
         [col::PROFILE, col::L_Y, col::PHI, col::Y, col::U_INF].map(|c| data.text(c));
@@ -130,24 +130,19 @@ pub fn build_ensemble(data: &Dataset) -> Result<Ensemble> {
         .collect::<Result<Vec<_>>>()?;
     let (mut scenes, mut replicated, mut runs) = (0, 0, 0);
     let versions = data.text(col::CODE_VERSION)?;
-    for rows in blocks(0..data.n_rows(), ids) {
-        let replicas = blocks(rows.iter().copied(), seeds);
+    for scene in table.scenes() {
+        let replicas: Vec<Vec<usize>> = scene.into_iter().map(Vec::from_iter).collect();
         let bins = replicas[0].len();
-        let id = &ids[rows[0]];
-        for (seed, r) in replicas.iter().map(|r| (&seeds[r[0]], r)) {
-            if r.len() != bins || r.iter().zip(&replicas[0]).any(|(&a, &b)| y[a] != y[b]) {
-                return Err(SurrogateError::InvalidArgument(format!(
-                    "{source}: scene `{id}`: seed {seed} has other bins (y) than seed {}; \
-                     replicas of a scene must have the same box",
-                    seeds[replicas[0][0]]
-                )));
-            }
-        }
+        let id = &ids[replicas[0][0]];
         let n = replicas.len();
         scenes += 1;
         runs += n;
         replicated += usize::from(n > 1);
-        let largest_u = rows.iter().map(|&r| u_inf[r].abs()).fold(0.0, f64::max);
+        let largest_u = replicas
+            .iter()
+            .flatten()
+            .map(|&r| u_inf[r].abs())
+            .fold(0.0, f64::max);
         for bin in 0..bins {
             let at = |k: usize| replicas[k][bin];
             let first = at(0);
@@ -223,18 +218,6 @@ pub fn build_ensemble(data: &Dataset) -> Result<Ensemble> {
     })
 }
 
-/// `rows` split into blocks of consecutive rows with the same `key` text, in order.
-fn blocks(rows: impl IntoIterator<Item = usize>, key: &[String]) -> Vec<Vec<usize>> {
-    let mut blocks: Vec<Vec<usize>> = Vec::new();
-    for row in rows {
-        match blocks.last_mut() {
-            Some(block) if key[block[0]] == key[row] => block.push(row),
-            _ => blocks.push(vec![row]),
-        }
-    }
-    blocks
-}
-
 /// The distinct texts of `cells`, in first-seen order, separated by spaces.
 fn distinct<'a>(cells: impl Iterator<Item = &'a str>) -> String {
     let mut seen: Vec<&str> = Vec::new();
@@ -250,30 +233,31 @@ fn distinct<'a>(cells: impl Iterator<Item = &'a str>) -> String {
 mod tests {
     use super::*;
 
-    /// A dataset row: every cell "1" except `scene_id`, `seed`, `y`, `u_inf` and the
-    /// given `(column, cell)` pairs.
+    /// A dataset row: the given `(column, cell)` pairs, else every cell "1" except
+    /// `scene_id`, `seed`, `y`, `u_inf`, `code_version` and `L_y` (4: two bins at y = 1, 3).
     fn row(id: &str, seed: u64, y: f64, cells: &[(&str, &str)]) -> String {
         let header = col::header();
         header
             .split(',')
-            .map(|name| match name {
-                "scene_id" => id.to_string(),
-                "seed" => seed.to_string(),
-                "y" => y.to_string(),
-                "u_inf" => (0.1 * y).to_string(),
-                "code_version" => "v1".to_string(),
-                _ => cells
-                    .iter()
-                    .find(|(c, _)| *c == name)
-                    .map_or("1".to_string(), |(_, v)| v.to_string()),
+            .map(|name| match cells.iter().find(|(c, _)| *c == name) {
+                Some((_, v)) => v.to_string(),
+                None => match name {
+                    "scene_id" => id.to_string(),
+                    "seed" => seed.to_string(),
+                    "y" => y.to_string(),
+                    "u_inf" => (0.1 * y).to_string(),
+                    "code_version" => "v1".to_string(),
+                    "L_y" => "4".to_string(),
+                    _ => "1".to_string(),
+                },
             })
             .collect::<Vec<_>>()
             .join(",")
     }
 
-    fn table(rows: &[String]) -> Dataset {
+    fn table(rows: &[String]) -> RunTable {
         let text = format!("{}\n{}\n", col::header(), rows.join("\n"));
-        Dataset::from_csv_bytes(text.as_bytes(), "t").unwrap()
+        RunTable::parse(&text).unwrap()
     }
 
     #[test]
@@ -308,9 +292,14 @@ mod tests {
                 &[("phi_loc", "0.56"), ("phi_loc_se", "0.01"), ("mu", "0.3")],
             ),
             row("a", 7, 3.0, &[("mu", "0.9"), ("mu_se", "0.05")]),
-            row("b", 4, 1.0, &[("phi_loc", "0.6"), ("phi_loc_se", "0.02")]),
+            row(
+                "b",
+                4,
+                1.0,
+                &[("phi_loc", "0.6"), ("phi_loc_se", "0.02"), ("L_y", "2")],
+            ),
         ];
-        let ensemble = build_ensemble(&table(&rows)).unwrap();
+        let ensemble = build_ensemble(&table(&rows), "t").unwrap();
         let out = Dataset::from_csv_bytes(&ensemble.csv, "ensemble").unwrap();
         assert_eq!(out.column_names(), col::ensemble_header().as_slice());
         assert_eq!(out.n_rows(), 3);
@@ -367,20 +356,5 @@ mod tests {
             (0.07f64 / 3.0).sqrt() / (3f64.sqrt() * 0.05 / 3.0)
         ));
         assert_eq!(mu_summary.median_relative_se_away_from_extrema, None);
-    }
-
-    #[test]
-    fn replicas_with_other_bins_are_refused() {
-        let rows = [
-            row("a", 1, 1.0, &[]),
-            row("a", 1, 3.0, &[]),
-            row("a", 2, 1.0, &[]),
-            row("a", 2, 5.0, &[]),
-        ];
-        let message = build_ensemble(&table(&rows)).err().unwrap().to_string();
-        assert!(
-            message.contains("scene `a`: seed 2 has other bins (y) than seed 1"),
-            "{message}"
-        );
     }
 }

@@ -6,6 +6,8 @@
 use std::collections::HashSet;
 use std::path::Path;
 
+use schema::Fingerprint;
+
 use crate::data::dataset::Dataset;
 use crate::data::mapping::Mapping;
 use crate::data::samples::Samples;
@@ -13,8 +15,8 @@ use crate::error::{Result, SurrogateError};
 use crate::models::model::{TrainedModel, TrainingData};
 
 /// Whether `fingerprint` (FNV-1a 64 of a table's bytes) is the one `recorded` holds.
-fn is_recorded(recorded: &TrainingData, fingerprint: u64) -> bool {
-    format!("{fingerprint:016x}") == recorded.fnv1a_64
+fn is_recorded(recorded: &TrainingData, fingerprint: Fingerprint) -> bool {
+    fingerprint == recorded.fnv1a_64
 }
 
 /// Number of rows of `validation` whose features and outputs equal, bit for bit, those of

@@ -1,11 +1,13 @@
 //! The local relative viscosity `eta_r = mu / J = |sigma_xy| / (eta |gdot|)` of the sheared
 //! bins of an inhomogeneous-flow dataset (docs/physics.md sections 6 and 10), gathered in
 //! bands of `phi_loc`, for comparison with homogeneous shear at the same volume fraction.
-use anyhow::Context;
-use schema::columns as col;
 use std::collections::BTreeMap;
-use std::path::Path;
-use surrogate::{median, Dataset};
+
+use schema::columns as col;
+
+use crate::data::dataset::Dataset;
+use crate::error::Result;
+use crate::rheology::statistics::median;
 
 /// A bin counts as sheared when its `|gdot|` is at least this fraction of the largest
 /// `|gdot|` of its scene: near a velocity extremum `J -> 0` and `mu / J` is noise over noise.
@@ -36,10 +38,9 @@ impl LocalBand {
     }
 }
 
-/// The bands centred on `centres` of the sheared bins of the dataset at `path`; bands
-/// without a bin are left out.
-pub fn bands(path: &Path, centres: &[f64]) -> anyhow::Result<Vec<LocalBand>> {
-    let data = Dataset::read_csv(path).with_context(|| format!("reading {}", path.display()))?;
+/// The bands centred on `centres` of the sheared bins of `data`; bands without a bin are
+/// left out.
+pub fn bands(data: &Dataset, centres: &[f64]) -> Result<Vec<LocalBand>> {
     let scene = data.group_keys()?;
     let (gdot, phi_loc) = (data.column(col::GDOT)?, data.column(col::PHI_LOC)?);
     let (j, mu) = (data.column(col::J)?, data.column(col::MU)?);

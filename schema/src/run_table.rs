@@ -6,38 +6,59 @@
 //! or merging shards, gives the same bytes as one whole run. Scene ids sort in grid order
 //! (`<grid>_<zero-padded index>`) and a scene's replicas by seed, which fixes the order of
 //! the runs in every output. A run's rows, and a scene's replicas, must agree as
-//! `crate::run_rows` says.
+//! [`crate::run_rows`] says.
+use crate::columns as dataset_columns;
+use crate::excerpt::excerpt;
 use crate::run_rows::{RunColumns, RunShape, NOT_REPLICAS};
-use anyhow::{bail, Context};
-use schema::columns as dataset_columns;
+use crate::{Result, SchemaError};
 use std::collections::BTreeMap;
+use std::ops::Range;
 use std::path::Path;
-use surrogate::excerpt;
+
+/// Returns a [`SchemaError::Format`] with the formatted message.
+macro_rules! bail {
+    ($($arg:tt)*) => {
+        return Err(SchemaError::Format(format!($($arg)*)))
+    };
+}
+
+/// A [`SchemaError::Format`] with the formatted message.
+macro_rules! format_error {
+    ($($arg:tt)*) => {
+        SchemaError::Format(format!($($arg)*))
+    };
+}
 
 /// A run of a dataset: scene id and seed (`None` in a table without a `seed` column).
 pub type RunKey = (String, Option<u64>);
 
 /// The lines of one dataset file, grouped by run.
-pub struct DatasetFile {
+pub struct RunTable {
     pub header: String,
     /// Run -> that run's lines (without end-of-line), in file order.
     pub runs: BTreeMap<RunKey, Vec<String>>,
 }
 
-impl DatasetFile {
+impl RunTable {
     /// Reads and checks `path`; errors name the file and the line (1 = header).
-    pub fn read(path: &Path) -> anyhow::Result<DatasetFile> {
-        let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    pub fn read(path: &Path) -> Result<RunTable> {
+        let bytes = std::fs::read(path).map_err(|source| SchemaError::Read {
+            path: path.display().to_string(),
+            source,
+        })?;
         let text = String::from_utf8(bytes)
-            .map_err(|e| anyhow::anyhow!("{}: not UTF-8 text ({e})", path.display()))?;
-        Self::parse(&text).with_context(|| format!("in {}", path.display()))
+            .map_err(|e| format_error!("{}: not UTF-8 text ({e})", path.display()))?;
+        Self::parse(&text).map_err(|e| SchemaError::InFile {
+            path: path.display().to_string(),
+            source: Box::new(e),
+        })
     }
 
-    /// Parses dataset text; see [`DatasetFile::read`]. A leading UTF-8 byte-order mark is
-    /// dropped; scene ids must follow the safe-name rule (`sim::input::scene_name`), seeds
+    /// Parses dataset text; see [`RunTable::read`]. A leading UTF-8 byte-order mark is
+    /// dropped; scene ids must follow the safe-name rule ([`crate::scene_name`]), seeds
     /// must be non-negative integers, standard errors (`*_se`) must not be negative; the
     /// rows of a run and the runs of a scene must agree ([`crate::run_rows`]).
-    pub fn parse(text: &str) -> anyhow::Result<DatasetFile> {
+    pub fn parse(text: &str) -> Result<RunTable> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         if text.is_empty() {
             bail!("the file is empty (expected a header line)");
@@ -50,12 +71,12 @@ impl DatasetFile {
         }
         let mut lines = text.lines();
         let header = lines.next().unwrap_or_default().to_string();
-        let names = fields(&header).context("line 1 (header)")?;
+        let names = fields(&header).map_err(|m| format_error!("line 1 (header): {m}"))?;
         let id_column = names
             .iter()
             .position(|n| n == dataset_columns::SCENE_ID)
-            .with_context(|| {
-                format!(
+            .ok_or_else(|| {
+                format_error!(
                     "line 1: no `scene_id` column in the header `{}`",
                     excerpt(&header)
                 )
@@ -71,7 +92,7 @@ impl DatasetFile {
         let mut last: Option<RunKey> = None;
         for (k, line) in lines.enumerate() {
             let number = k + 2;
-            let cells = fields(line).with_context(|| format!("line {number}"))?;
+            let cells = fields(line).map_err(|m| format_error!("line {number}: {m}"))?;
             if cells.len() != names.len() {
                 bail!("line {number} has {} fields where the header has {} (truncated or corrupt line?)", cells.len(), names.len());
             }
@@ -89,12 +110,12 @@ impl DatasetFile {
                 }
             }
             let id = cells[id_column].clone();
-            sim::input::scene_name::check(&id)
-                .map_err(|m| anyhow::anyhow!("line {number}, column `scene_id`: {m}"))?;
+            crate::scene_name::check(&id)
+                .map_err(|m| format_error!("line {number}, column `scene_id`: {m}"))?;
             let seed = seed_column
                 .map(|c| {
                     cells[c].parse::<u64>().map_err(|_| {
-                        anyhow::anyhow!(
+                        format_error!(
                             "line {number}, column `seed`: `{}` is not a non-negative integer",
                             excerpt(&cells[c])
                         )
@@ -113,11 +134,7 @@ impl DatasetFile {
             match shapes.get_mut(&key) {
                 Some((_, shape)) => {
                     columns.same_run(&shape.first, &cells).map_err(|m| {
-                        anyhow::anyhow!(
-                            "line {number} (scene `{}`{}): {m}",
-                            key.0,
-                            seed_text(key.1)
-                        )
+                        format_error!("line {number} (scene `{}`{}): {m}", key.0, seed_text(key.1))
                     })?;
                     shape.y.extend(y);
                 }
@@ -141,27 +158,27 @@ impl DatasetFile {
             };
             columns
                 .check_bins(shape)
-                .map_err(|m| anyhow::anyhow!("{}: {m}", place()))?;
+                .map_err(|m| format_error!("{}: {m}", place()))?;
             if let Some((other, (_, first))) = shapes.range(..key).next_back() {
                 if other.0 == key.0 {
                     let name = format!("seed {}", other.1.unwrap_or_default());
                     columns
                         .same_scene(first, &name, shape)
-                        .map_err(|m| anyhow::anyhow!("{}: {m}; {NOT_REPLICAS}", place()))?;
+                        .map_err(|m| format_error!("{}: {m}; {NOT_REPLICAS}", place()))?;
                 }
             }
         }
-        Ok(DatasetFile { header, runs })
+        Ok(RunTable { header, runs })
     }
 
     /// The first row and bin centres of run `key`, from its stored lines (checked on reading).
-    fn shape(&self, columns: &RunColumns, key: &RunKey) -> anyhow::Result<RunShape> {
+    fn shape(&self, columns: &RunColumns, key: &RunKey) -> Result<RunShape> {
         let lines = &self.runs[key];
-        let first = fields(&lines[0])?;
+        let first = fields(&lines[0]).map_err(SchemaError::Format)?;
         let y = lines
             .iter()
-            .map(|l| Ok(columns.y(&fields(l)?)))
-            .collect::<anyhow::Result<Vec<_>>>()?;
+            .map(|l| Ok(columns.y(&fields(l).map_err(SchemaError::Format)?)))
+            .collect::<Result<Vec<_>>>()?;
         Ok(RunShape {
             first,
             y: y.into_iter().flatten().collect(),
@@ -169,7 +186,7 @@ impl DatasetFile {
     }
 
     /// Adds the runs of `other`, which must have the same header and no run in common.
-    pub fn absorb(&mut self, other: DatasetFile, other_name: &str) -> anyhow::Result<()> {
+    pub fn absorb(&mut self, other: RunTable, other_name: &str) -> Result<()> {
         if other.header != self.header {
             bail!(
                 "{other_name}: its header differs from the first file's:\n  {}\n  {}",
@@ -177,7 +194,7 @@ impl DatasetFile {
                 self.header
             );
         }
-        let columns = RunColumns::new(&fields(&self.header)?);
+        let columns = RunColumns::new(&fields(&self.header).map_err(SchemaError::Format)?);
         for key in other.runs.keys() {
             if self.runs.contains_key(key) {
                 bail!(
@@ -196,7 +213,7 @@ impl DatasetFile {
                         &other.shape(&columns, key)?,
                     )
                     .map_err(|m| {
-                        anyhow::anyhow!(
+                        format_error!(
                             "{other_name}: scene `{}`{} {m}; {NOT_REPLICAS}",
                             key.0,
                             seed_text(key.1)
@@ -233,11 +250,27 @@ impl DatasetFile {
         self.runs.values().map(Vec::len).sum()
     }
 
+    /// The runs of each scene, scenes in table order and a scene's replicas by seed; a run is
+    /// the range of its rows in [`RunTable::to_text`] (0 = the first data row).
+    pub fn scenes(&self) -> Vec<Vec<Range<usize>>> {
+        let mut scenes: Vec<Vec<Range<usize>>> = Vec::new();
+        let mut start = 0;
+        let mut last: Option<&str> = None;
+        for ((id, _), lines) in &self.runs {
+            let run = start..start + lines.len();
+            start = run.end;
+            match scenes.last_mut() {
+                Some(runs) if last == Some(id.as_str()) => runs.push(run),
+                _ => scenes.push(vec![run]),
+            }
+            last = Some(id);
+        }
+        scenes
+    }
+
     /// Number of distinct scenes.
     pub fn scene_count(&self) -> usize {
-        let mut ids: Vec<&str> = self.runs.keys().map(|(id, _)| id.as_str()).collect();
-        ids.dedup();
-        ids.len()
+        self.scenes().len()
     }
 
     /// Whether some scene has more than one run (replicas).
@@ -251,8 +284,8 @@ fn seed_text(seed: Option<u64>) -> String {
     seed.map_or(String::new(), |s| format!(" (seed {s})"))
 }
 
-/// The fields of one CSV line (quotes removed).
-fn fields(line: &str) -> anyhow::Result<Vec<String>> {
+/// The fields of one CSV line (quotes removed), or what is wrong with it.
+fn fields(line: &str) -> std::result::Result<Vec<String>, String> {
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
@@ -260,9 +293,9 @@ fn fields(line: &str) -> anyhow::Result<Vec<String>> {
     let mut record = csv::StringRecord::new();
     let read = reader
         .read_record(&mut record)
-        .map_err(|e| anyhow::anyhow!("not valid CSV: {e}"))?;
+        .map_err(|e| format!("not valid CSV: {e}"))?;
     if !read {
-        bail!("is empty");
+        return Err("is empty".into());
     }
     Ok(record.iter().map(str::to_string).collect())
 }
@@ -278,7 +311,7 @@ mod tests {
         for (text, expected) in cases {
             let err = format!(
                 "{:#}",
-                DatasetFile::parse(text)
+                RunTable::parse(text)
                     .err()
                     .unwrap_or_else(|| panic!("accepted {text:?}"))
             );
@@ -288,8 +321,8 @@ mod tests {
 
     #[test]
     fn merge_keeps_bytes_and_orders_scenes() {
-        let mut a = DatasetFile::parse(&format!("{HEADER}\ng_002,\"sin(y)\",1e0,5e-1\n")).unwrap();
-        let b = DatasetFile::parse(&format!(
+        let mut a = RunTable::parse(&format!("{HEADER}\ng_002,\"sin(y)\",1e0,5e-1\n")).unwrap();
+        let b = RunTable::parse(&format!(
             "{HEADER}\ng_000,\"sin(y)\",1e0,\ng_000,\"sin(y)\",3e0,2\n"
         ))
         .unwrap();
@@ -337,16 +370,18 @@ mod tests {
     #[test]
     fn replicas_are_runs_ordered_by_seed() {
         const SEEDED: &str = "scene_id,seed,y";
-        let mut a = DatasetFile::parse(&format!("{SEEDED}\ng_0,10,1\ng_0,10,3\n")).unwrap();
-        let b = DatasetFile::parse(&format!("{SEEDED}\ng_1,1,1\ng_0,2,1\ng_0,2,3\n")).unwrap();
+        let mut a = RunTable::parse(&format!("{SEEDED}\ng_0,10,1\ng_0,10,3\n")).unwrap();
+        let b = RunTable::parse(&format!("{SEEDED}\ng_1,1,1\ng_0,2,1\ng_0,2,3\n")).unwrap();
         a.absorb(b, "b").unwrap();
         assert_eq!(
             a.to_text(),
             format!("{SEEDED}\ng_0,2,1\ng_0,2,3\ng_0,10,1\ng_0,10,3\ng_1,1,1\n")
         );
         assert_eq!((a.runs.len(), a.scene_count()), (3, 2));
+        let single: Vec<std::ops::Range<usize>> = std::iter::once(4..5).collect();
+        assert_eq!(a.scenes(), [vec![0..2, 2..4], single]);
         assert!(a.has_replicas());
-        let again = DatasetFile::parse(&format!("{SEEDED}\ng_0,2,5\n")).unwrap();
+        let again = RunTable::parse(&format!("{SEEDED}\ng_0,2,5\n")).unwrap();
         let message = format!("{:#}", a.absorb(again, "c").unwrap_err());
         assert!(
             message.contains("scene `g_0` (seed 2) is also in an earlier file"),
@@ -362,7 +397,7 @@ mod tests {
                 "line 4: scene `g_0` (seed 1) appears again",
             ),
         ] {
-            let message = format!("{:#}", DatasetFile::parse(&text).err().unwrap());
+            let message = format!("{:#}", RunTable::parse(&text).err().unwrap());
             assert!(message.contains(expected), "{message}");
         }
     }
@@ -383,7 +418,7 @@ mod tests {
             run(1, "0.5", &["1", "3"]),
             run(2, "5e-1", &["1e0", "3"])
         );
-        assert_eq!(DatasetFile::parse(&good).unwrap().runs.len(), 2);
+        assert_eq!(RunTable::parse(&good).unwrap().runs.len(), 2);
         let cases = [
             (
                 format!("{RUN}\n{}", run(1, "0.5", &["1", "1"])),
@@ -412,8 +447,8 @@ mod tests {
         ];
         assert_refused(&cases);
         // Across files: a second grid's run under the same scene name and another seed.
-        let mut a = DatasetFile::parse(&format!("{RUN}\n{}", run(1, "0.45", &["1", "3"]))).unwrap();
-        let b = DatasetFile::parse(&format!("{RUN}\n{}", run(2, "0.44", &["1", "3"]))).unwrap();
+        let mut a = RunTable::parse(&format!("{RUN}\n{}", run(1, "0.45", &["1", "3"]))).unwrap();
+        let b = RunTable::parse(&format!("{RUN}\n{}", run(2, "0.44", &["1", "3"]))).unwrap();
         let err = format!("{:#}", a.absorb(b, "b.csv").unwrap_err());
         assert!(
             err.contains("b.csv: scene `g_0` (seed 2) has phi = `0.44` where seed 1 of an earlier file has `0.45`"),
@@ -423,8 +458,8 @@ mod tests {
 
     #[test]
     fn byte_order_mark_is_dropped() {
-        let plain = DatasetFile::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
-        let mut marked = DatasetFile::parse(&format!("\u{feff}{HEADER}\ng_1,\"s\",1,2\n")).unwrap();
+        let plain = RunTable::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
+        let mut marked = RunTable::parse(&format!("\u{feff}{HEADER}\ng_1,\"s\",1,2\n")).unwrap();
         assert_eq!(marked.header, HEADER);
         marked.absorb(plain, "plain").unwrap();
         assert_eq!(marked.rows(), 2);
@@ -432,12 +467,12 @@ mod tests {
 
     #[test]
     fn overlapping_or_mismatched_files_are_refused() {
-        let mut a = DatasetFile::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
-        let same = DatasetFile::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
+        let mut a = RunTable::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
+        let same = RunTable::parse(&format!("{HEADER}\ng_0,\"s\",1,2\n")).unwrap();
         assert!(
             format!("{:#}", a.absorb(same, "b").unwrap_err()).contains("also in an earlier file")
         );
-        let other = DatasetFile::parse("scene_id,y\ng_1,1\n").unwrap();
+        let other = RunTable::parse("scene_id,y\ng_1,1\n").unwrap();
         assert!(format!("{:#}", a.absorb(other, "c").unwrap_err()).contains("header differs"));
     }
 }

@@ -11,7 +11,8 @@
 //!   ([`SCENE`]) and on the bins. Two grids that give one scene name to different scenes
 //!   are caught here when the scenes differ in these columns; what the dataset does not
 //!   record (stiffness, radii, ...) cannot be compared.
-use schema::columns as col;
+use crate::columns as col;
+use crate::excerpt::excerpt;
 
 /// Columns that hold one value for a whole run (those of a per-run dataset and of an
 /// ensemble table).
@@ -83,8 +84,8 @@ impl RunColumns {
             Some(&(c, name)) => Err(format!(
                 "column `{name}` is `{}` where the run's first row has `{}`: the rows of a \
                  run share its scene and run columns",
-                surrogate::excerpt(&cells[c]),
-                surrogate::excerpt(&first[c])
+                excerpt(&cells[c]),
+                excerpt(&first[c])
             )),
         }
     }
@@ -132,8 +133,8 @@ impl RunColumns {
         {
             return Err(format!(
                 "has {name} = `{}` where {a_name} has `{}`",
-                surrogate::excerpt(&b.first[c]),
-                surrogate::excerpt(&a.first[c])
+                excerpt(&b.first[c]),
+                excerpt(&a.first[c])
             ));
         }
         if a.y != b.y {

@@ -9,8 +9,8 @@
 //! `cargo run --release -p sim --example densest_packing -- [box side] [phi step]`
 //! (default 16 and 0.005, from phi 0.62).
 use rand::{rngs::StdRng, SeedableRng};
+use sim::input::initial_state::PACKING_GAP;
 use sim::input::packing::random_packing;
-use sim::run::PACKING_GAP;
 use std::time::Instant;
 
 const SEEDS: [u64; 3] = [1, 2, 3];

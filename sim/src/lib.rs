@@ -11,6 +11,13 @@
 //! -> [`output`] (tables, summary, frames, checkpoints); [`run`] drives a scene from start
 //! to its averaged steady state, and [`studies`] sit above it (error against run length,
 //! the stability sweep).
+//!
+//! One exception, with its reason: the [`Scene`] (in [`input`]) carries the quantities
+//! derived from the file once for every stage, and three of them are typed by the stage
+//! whose law defines them: the [`TimeStep`] (from the time-step limits of [`integrate`]),
+//! the pair repulsion's parameters ([`forces`]) and the observable conventions
+//! ([`sampling`]). Moving those types down into `input` would put each law's parameters
+//! away from the law.
 
 pub mod error;
 pub mod forces;

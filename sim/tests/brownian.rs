@@ -2,9 +2,9 @@
 //! free spheres (kinetic temperature and long-time diffusion, thesis eq 4.1), and
 //! equipartition in a dense suspension at the automatic time step. Seeded, so they cannot
 //! flake; each tolerance is stated from its sample size.
+use sim::input::initial_state::initial_particles;
 use sim::input::scene::Scene;
 use sim::integrate::simulation::Simulation;
-use sim::run::initial_particles;
 use sim::Vec3;
 
 /// Thesis Table 4.1 units: a = 1, rho = eta = 0.1, kT = 0.017 (tau_B = 5.9, tau_I = 1).

@@ -35,7 +35,7 @@ fn two_particles(x_i: Vec3, x_j: Vec3, a_i: f64, a_j: f64) -> Particles {
 #[test]
 fn pair_forces_cancel_in_a_random_dense_system() {
     let scene = scene("drag = false\nmu_p = 0.5", "");
-    let mut p = sim::run::initial_particles(&scene).unwrap();
+    let mut p = sim::input::initial_state::initial_particles(&scene).unwrap();
     let mut rng = rand::rngs::StdRng::seed_from_u64(3);
     // Squeeze the configuration a little so that contacts and lubrication both act.
     for x in p.pos.iter_mut() {
@@ -64,7 +64,7 @@ fn pair_forces_cancel_in_a_random_dense_system() {
 #[test]
 fn same_thread_count_same_forces_and_threads_agree_to_round_off() {
     let scene = scene("", "");
-    let p = sim::run::initial_particles(&scene).unwrap();
+    let p = sim::input::initial_state::initial_particles(&scene).unwrap();
     // Positions in the order of the particles' identities (the arrays are re-sorted in space).
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()

@@ -129,7 +129,7 @@ fn the_dissipative_update_never_creates_kinetic_energy() {
     let s = scene("contact = false\ndrag = false", "dt = 0.02");
     let mut rng = rand::rngs::StdRng::seed_from_u64(11);
     for trial in 0..20 {
-        let mut p = sim::run::initial_particles(&s).unwrap();
+        let mut p = sim::input::initial_state::initial_particles(&s).unwrap();
         // Squeeze the packing so that many pairs are inside the lubrication range.
         for x in p.pos.iter_mut() {
             *x *= 0.99;

@@ -228,7 +228,11 @@ fn a_dense_suspension_with_the_stiffest_repulsion_is_stable_at_the_automatic_ste
         "{:?}",
         sc.timestep
     );
-    let mut s = Simulation::new(&sc, sim::run::initial_particles(&sc).unwrap()).unwrap();
+    let mut s = Simulation::new(
+        &sc,
+        sim::input::initial_state::initial_particles(&sc).unwrap(),
+    )
+    .unwrap();
     s.advance(10_000).expect("stable warm-up");
     let (steps, mut trans, mut contacts) = (20_000, 0.0, 0);
     for _ in 0..steps {

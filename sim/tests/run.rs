@@ -1,9 +1,10 @@
 //! Whole runs on a tiny scene: same seed same output, checkpoint + resume identical,
 //! the steady momentum balance, and phi_loc summing to the global phi (docs/physics.md section 9).
+use sim::input::initial_state::initial_particles;
 use sim::input::scene::Scene;
 use sim::integrate::simulation::Simulation;
 use sim::output::result_files::profile_rows;
-use sim::run::{initial_particles, run, RunOptions};
+use sim::run::{run, RunOptions};
 use sim::sampling::binning::Bins;
 use sim::sampling::snapshot::{field, Sampler, StepPairSums};
 use sim::SimError;

@@ -1,10 +1,10 @@
 //! Snapshot frames read back: the extended-XYZ and LAMMPS-dump rows hold every particle's
 //! state exactly (shortest round-trip decimals), the species as element symbols and types,
 //! and the cell of the box, sheared by the Lees-Edwards offset for a sheared scene.
+use sim::input::initial_state::initial_particles;
 use sim::input::scene::Scene;
 use sim::integrate::simulation::Simulation;
 use sim::output::snapshot_format::SnapshotFormat;
-use sim::run::initial_particles;
 use std::path::PathBuf;
 
 fn simulation(scene: &str) -> Simulation {

@@ -1,7 +1,7 @@
 //! Blow-up detection and the Stokes-number check (docs/physics.md sections 1 and 5).
+use sim::input::initial_state::initial_particles;
 use sim::input::scene::Scene;
 use sim::integrate::simulation::Simulation;
-use sim::run::initial_particles;
 use sim::SimError;
 
 fn dense(run: &str) -> Scene {

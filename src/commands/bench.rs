@@ -4,12 +4,12 @@
 //! peer's dt = 5e-4, the implicit one at its automatic dt, both over the same physical
 //! window: 2000 warm-up + 10000 timed steps of 5e-4 by default.
 use serde::Serialize;
+use sim::input::initial_state::initial_particles;
 use sim::input::integrator::Integrator;
 use sim::input::scene::{Scene, SceneFile};
 use sim::integrate::pass_times::PassTimes;
 use sim::integrate::simulation::Simulation;
 use sim::integrate::stage_timers::StageTimers;
-use sim::run::initial_particles;
 use std::f64::consts::PI;
 use std::time::Instant;
 

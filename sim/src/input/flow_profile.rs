@@ -143,12 +143,6 @@ impl FlowProfile {
         self.interpolate(y, 1)
     }
 
-    /// z-component of the rotational streaming velocity, `Omega_inf(y) = (0, 0, -u'(y)/2)`
-    /// (docs/physics.md section 2), in rad/time.
-    pub fn omega_z(&self, y: f64) -> f64 {
-        -0.5 * self.du_dy(y)
-    }
-
     /// Largest `|u|` over the table nodes (`a`/time).
     pub fn max_abs_u(&self) -> f64 {
         self.max_abs_u
@@ -384,7 +378,6 @@ mod tests {
                 (p.du_dy(y) - du(y)).abs() < 1e-9 * p.max_abs_shear_rate(),
                 "{expr} u' at {y}"
             );
-            assert_eq!(p.omega_z(y), -0.5 * p.du_dy(y));
             assert_eq!(p.u_and_slope(y), (p.u(y), p.du_dy(y)));
         }
     }

@@ -222,8 +222,9 @@ impl Grid {
         } else {
             file.cases.iter().collect()
         };
-        let per_case: usize = lists.iter().map(|(_, v)| v.len()).product();
         let total = grid_size(cases.len(), &lists, file.replicas)?;
+        // Bounded by `total` (checked above without overflow), so the product cannot overflow.
+        let per_case: usize = lists.iter().map(|(_, v)| v.len()).product();
         let width = total.saturating_sub(1).to_string().len().max(3);
         let mut runs = Vec::with_capacity(total);
         let mut seen: HashMap<String, String> = HashMap::new();

@@ -3,6 +3,7 @@
 
 pub mod flow_profile;
 pub mod grid;
+pub mod initial_state;
 pub mod integrator;
 pub mod memory_estimate;
 pub mod packing;

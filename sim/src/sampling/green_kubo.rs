@@ -5,9 +5,9 @@
 //! hydrodynamic viscosity at their lowest Peclet number to fit the low-Pe jamming point.
 use crate::error::SimError;
 use crate::forces::brownian_shell;
+use crate::input::initial_state::initial_particles;
 use crate::input::scene::Scene;
 use crate::integrate::simulation::Simulation;
-use crate::run::initial_particles;
 use serde::Serialize;
 
 /// The xy component of the structural Brownian stress of the whole box (units energy /

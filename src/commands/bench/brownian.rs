@@ -5,11 +5,11 @@
 //! timed window (1 is equipartition).
 use super::Args;
 use serde::Serialize;
+use sim::input::initial_state::initial_particles;
 use sim::input::integrator::Integrator;
 use sim::input::scene::{Scene, SceneFile};
 use sim::integrate::simulation::Simulation;
 use sim::integrate::stage_timers::StageTimers;
-use sim::run::initial_particles;
 use std::f64::consts::PI;
 use std::time::Instant;
 

@@ -5,63 +5,52 @@
 //! The files say where each run is, so a re-run continues where the last one stopped.
 use anyhow::{bail, Context};
 use sim::input::scene::SceneFile;
+use sim::output::run_summary::RunSummary;
 use std::path::{Path, PathBuf};
 
-/// The fields of a finished scene's `summary.json` (written by `sim`'s `RunSummary`) that the
-/// scene table of `generate` shows, read typed.
-#[derive(Debug, serde::Deserialize)]
-pub struct SceneSummary {
-    pub dt: f64,
-    pub dt_limit: String,
-    pub steps: u64,
-    pub strain_to_steady: f64,
-    pub strain_total: f64,
-    pub momentum_residual: Option<f64>,
-    pub mean_overlap: f64,
-    pub max_overlap: f64,
-    pub wall_s: f64,
-    pub code_version: String,
+/// Column names of [`summary_cells`], in order: what the scene table of `generate` shows of
+/// a finished scene's summary.
+pub const SUMMARY_COLUMNS: [&str; 10] = [
+    "dt",
+    "dt_limit",
+    "steps",
+    "strain_to_steady",
+    "strain_total",
+    "momentum_residual",
+    "mean_overlap",
+    "max_overlap",
+    "wall_s",
+    "code_version",
+];
+
+/// The [`SUMMARY_COLUMNS`] of `summary` as table cells, numbers written as in the JSON file
+/// (not finite, an empty cell; so is an absent residual, a run without drag).
+pub fn summary_cells(summary: &RunSummary) -> [String; 10] {
+    let number = |v: f64| serde_json::Number::from_f64(v).map_or(String::new(), |n| n.to_string());
+    [
+        number(summary.dt),
+        summary.dt_limit.clone(),
+        summary.steps.to_string(),
+        number(summary.strain_to_steady),
+        number(summary.strain_total),
+        summary.momentum_residual.map_or(String::new(), number),
+        number(summary.mean_overlap),
+        number(summary.max_overlap),
+        number(summary.wall_s),
+        summary.code_version.clone(),
+    ]
 }
 
-impl SceneSummary {
-    /// Column names of [`SceneSummary::cells`], in order.
-    pub const COLUMNS: [&'static str; 10] = [
-        "dt",
-        "dt_limit",
-        "steps",
-        "strain_to_steady",
-        "strain_total",
-        "momentum_residual",
-        "mean_overlap",
-        "max_overlap",
-        "wall_s",
-        "code_version",
-    ];
-
-    /// The fields as table cells, numbers written as in the JSON file (an absent residual,
-    /// a run without drag, is an empty cell).
-    pub fn cells(&self) -> [String; 10] {
-        let number =
-            |v: f64| serde_json::Number::from_f64(v).map_or(String::new(), |n| n.to_string());
-        [
-            number(self.dt),
-            self.dt_limit.clone(),
-            self.steps.to_string(),
-            number(self.strain_to_steady),
-            number(self.strain_total),
-            self.momentum_residual.map_or(String::new(), number),
-            number(self.mean_overlap),
-            number(self.max_overlap),
-            number(self.wall_s),
-            self.code_version.clone(),
-        ]
-    }
+/// Reads the `summary.json` at `path` that `simulate` wrote.
+pub fn read_summary(path: &Path) -> anyhow::Result<RunSummary> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    serde_json::from_slice(&bytes).with_context(|| format!("reading {}", path.display()))
 }
 
 /// Where a run is.
 pub enum SceneStatus {
     /// Finished: its summary.json.
-    Done(SceneSummary),
+    Done(Box<RunSummary>),
     /// Failed for this reason; not retried unless asked.
     Failed(String),
     /// Not started, or interrupted (then it has a checkpoint).
@@ -133,13 +122,9 @@ impl SceneWork {
 
     /// The status the files record.
     pub fn status(&self) -> anyhow::Result<SceneStatus> {
-        let summary = self.dir.join("summary.json");
-        if self.dir.join("profile.csv").exists() && summary.exists() {
-            let bytes = std::fs::read(&summary)
-                .with_context(|| format!("reading {}", summary.display()))?;
-            let value = serde_json::from_slice(&bytes)
-                .with_context(|| format!("reading {}", summary.display()))?;
-            return Ok(SceneStatus::Done(value));
+        let summary = self.summary_json();
+        if self.profile_csv().exists() && summary.exists() {
+            return Ok(SceneStatus::Done(Box::new(read_summary(&summary)?)));
         }
         match std::fs::read_to_string(self.dir.join("failed.txt")) {
             Ok(reason) => Ok(SceneStatus::Failed(reason.trim().to_string())),
@@ -167,8 +152,37 @@ impl SceneWork {
         std::fs::remove_file(self.dir.join("failed.txt")).ok();
     }
 
+    /// The finished scene's summary.
+    pub fn summary_json(&self) -> PathBuf {
+        self.dir.join("summary.json")
+    }
+
     /// The finished scene's profile table.
     pub fn profile_csv(&self) -> PathBuf {
         self.dir.join("profile.csv")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_summary_missing_a_field_is_refused_naming_the_field_and_the_file() {
+        let dir = std::env::temp_dir().join(format!("suspflow-summary-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let work = SceneWork { dir: dir.clone() };
+        std::fs::write(work.profile_csv(), "").unwrap();
+        std::fs::write(work.summary_json(), r#"{"name": "tiny"}"#).unwrap();
+        let Err(e) = work.status() else {
+            panic!("a summary without n_particles was read")
+        };
+        let message = format!("{e:#}");
+        assert!(message.contains("missing field `n_particles`"), "{message}");
+        assert!(
+            message.contains(&work.summary_json().display().to_string()),
+            "{message}"
+        );
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -1,27 +1,9 @@
 //! End-to-end tests of the `suspflow` command on tiny scenes.
+mod common;
+
+use common::{assert_ok, read_csv, root, scratch, suspflow};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn suspflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_suspflow"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("runs suspflow")
-}
-
-/// Fails the test with the command's standard error unless it succeeded.
-fn assert_ok(out: &Output) {
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
+use std::process::Command;
 
 fn scenes_in(dir: &Path) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -33,17 +15,11 @@ fn scenes_in(dir: &Path) -> Vec<PathBuf> {
     v
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("suspflow-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
 #[test]
 fn bad_scenes_are_refused_naming_the_field() {
     let bad = scenes_in(&root().join("tests/scenes/bad"));
     assert!(bad.len() >= 10);
-    let out_dir = temp_dir("bad");
+    let out_dir = scratch("bad");
     for scene in bad {
         let text = std::fs::read_to_string(&scene).unwrap();
         let expect = text
@@ -165,20 +141,6 @@ fn bench_refuses_bad_options_naming_them() {
     assert_ok(&out);
 }
 
-/// Parses a CSV into its header and rows of fields.
-fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let header = lines.next().unwrap().split(',').map(String::from).collect();
-    // The profile expression is quoted and holds no comma in these scenes.
-    (
-        header,
-        lines
-            .map(|l| l.split(',').map(String::from).collect())
-            .collect(),
-    )
-}
-
 #[test]
 fn golden_runs_match_and_write_every_output() {
     for (scene, golden, dt_limit) in [
@@ -196,7 +158,7 @@ fn golden_runs_match_and_write_every_output() {
 /// Runs `tests/scenes/good/<scene>.toml` and compares its profile with `tests/golden/<golden>`
 /// (`UPDATE_GOLDEN=1` rewrites it); its dt must be set by `dt_limit`.
 fn golden_run(scene: &str, golden: &str, dt_limit: &str) {
-    let out_dir = temp_dir(scene);
+    let out_dir = scratch(scene);
     let scene_path = format!("tests/scenes/good/{scene}.toml");
     let out = suspflow(&[
         "simulate",
@@ -282,7 +244,7 @@ fn golden_run(scene: &str, golden: &str, dt_limit: &str) {
         assert!(table.contains(option), "no `{option}` in\n{table}");
     }
     // A directory without a finished run is named in the error.
-    let empty = temp_dir("conventions-empty");
+    let empty = scratch("conventions-empty");
     std::fs::create_dir_all(&empty).unwrap();
     let out = suspflow(&["conventions", empty.to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -292,7 +254,7 @@ fn golden_run(scene: &str, golden: &str, dt_limit: &str) {
     );
     // `conventions WORK/*` of a work directory: a lock file and a folder without a run beside
     // the run are skipped with a note (issue 31, 16.17); a file alone is refused as a file.
-    let lock = temp_dir("conventions-lock");
+    let lock = scratch("conventions-lock");
     std::fs::create_dir_all(&lock).unwrap();
     let lock_file = lock.join("generate.lock");
     std::fs::write(&lock_file, "").unwrap();
@@ -400,7 +362,7 @@ fn frames_in(path: &Path) -> usize {
 
 #[test]
 fn simulate_keeps_earlier_runs_and_resume_appends_frames() {
-    let dir = temp_dir("overwrite");
+    let dir = scratch("overwrite");
     std::fs::create_dir_all(&dir).unwrap();
     // The tiny scene with 200 averaged snapshots: long enough to interrupt (4 windows of
     // 10 snapshots, then 200).
@@ -517,7 +479,7 @@ fn simulate_keeps_earlier_runs_and_resume_appends_frames() {
 
 #[test]
 fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
-    let dir = temp_dir("flow-curves");
+    let dir = scratch("flow-curves");
     let (runs, out) = (dir.join("runs"), dir.join("report"));
     let generated = suspflow(&[
         "generate",
@@ -598,7 +560,7 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
 /// before anything runs.
 #[test]
 fn green_kubo_integrates_an_equilibrium_run_and_refuses_what_it_cannot() {
-    let dir = temp_dir("green-kubo");
+    let dir = scratch("green-kubo");
     std::fs::create_dir_all(&dir).unwrap();
     let scene = dir.join("eq.toml");
     let text = "box = { l_x = 10.0, l_y = 10.0, l_z = 10.0 }\n\
@@ -657,7 +619,7 @@ fn green_kubo_integrates_an_equilibrium_run_and_refuses_what_it_cannot() {
 /// Peclet number and a figure of `eta_r(Pe)` per volume fraction.
 #[test]
 fn flow_curves_over_the_peclet_number_split_the_viscosity() {
-    let dir = temp_dir("flow-curves-pe");
+    let dir = scratch("flow-curves-pe");
     let (runs, out) = (dir.join("runs"), dir.join("report"));
     let grid = "tests/grids/tiny_brownian_shear.toml";
     let runs_arg = runs.to_str().unwrap();
@@ -717,7 +679,7 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
 
 #[test]
 fn coverage_draws_both_planes_and_tabulates_the_ranges_of_the_data() {
-    let dir = temp_dir("coverage");
+    let dir = scratch("coverage");
     std::fs::create_dir_all(&dir).unwrap();
     let train = dir.join("a.csv");
     let validate = dir.join("b.csv");
@@ -769,7 +731,7 @@ fn coverage_draws_both_planes_and_tabulates_the_ranges_of_the_data() {
 #[test]
 fn option_values_beyond_their_limits_are_refused() {
     let tiny = "tests/scenes/good/tiny.toml";
-    let out = temp_dir("limits");
+    let out = scratch("limits").join("out");
     let out = out.to_str().unwrap();
     for (args, expect) in [
         (
@@ -820,7 +782,7 @@ fn option_values_beyond_their_limits_are_refused() {
 /// that finishes removes its checkpoint, so a plain re-run calls it finished.
 #[test]
 fn sigterm_checkpoints_a_run_held_by_its_lock_and_a_finished_resume_leaves_none() {
-    let dir = temp_dir("sigterm");
+    let dir = scratch("sigterm");
     std::fs::create_dir_all(&dir).unwrap();
     let scene = dir.join("long.toml");
     let text = std::fs::read_to_string(root().join("tests/scenes/good/tiny.toml")).unwrap();

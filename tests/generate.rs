@@ -2,29 +2,13 @@
 //! resume after a kill or Ctrl-C gives the same dataset, a failing scene is isolated, shards
 //! merged equal the whole grid, and corrupt inputs to merge are refused naming the line;
 //! replicas run apart and their ensemble table holds the means and between-replica errors.
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::{csv_column, numbers, root, scratch, stderr, suspflow};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn suspflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_suspflow"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("runs suspflow")
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("suspflow-gen-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 fn generate(grid: &str, out: &Path, extra: &[&str]) -> Output {
     let mut args = vec!["generate", grid, "--out", out.to_str().unwrap()];
@@ -32,15 +16,11 @@ fn generate(grid: &str, out: &Path, extra: &[&str]) -> Output {
     suspflow(&args)
 }
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
 /// The dataset of the tiny grid run once without interruption.
 fn whole_tiny() -> &'static String {
     static WHOLE: OnceLock<String> = OnceLock::new();
     WHOLE.get_or_init(|| {
-        let out = temp_dir("whole").join("tiny.csv");
+        let out = scratch("whole").join("tiny.csv");
         let o = generate("tests/grids/tiny.toml", &out, &[]);
         assert!(o.status.success(), "{}", stderr(&o));
         std::fs::read_to_string(out).unwrap()
@@ -103,7 +83,7 @@ fn spawn_tiny_generate(out: &Path) -> std::process::Child {
 /// Starts generate, waits until a scene has written a checkpoint, then stops it with
 /// `signal`; the re-run must finish with exactly the uninterrupted dataset.
 fn interrupted_then_resumed(name: &str, signal: &str) {
-    let dir = temp_dir(name);
+    let dir = scratch(name);
     let out = dir.join("tiny.csv");
     let mut child = spawn_tiny_generate(&out);
     let work = dir.join("tiny.csv.work");
@@ -166,7 +146,7 @@ fn resume_after_ctrl_c_gives_the_identical_dataset() {
 
 #[test]
 fn a_failing_scene_is_recorded_and_does_not_stop_the_others() {
-    let dir = temp_dir("fails");
+    let dir = scratch("fails");
     let out = dir.join("fails.csv");
     let o = generate("tests/grids/one_fails.toml", &out, &[]);
     assert!(
@@ -208,7 +188,7 @@ fn a_failing_scene_is_recorded_and_does_not_stop_the_others() {
 
 #[test]
 fn shards_merged_equal_the_whole_grid() {
-    let dir = temp_dir("shards");
+    let dir = scratch("shards");
     let mut parts = Vec::new();
     for i in 0..3 {
         let out = dir.join(format!("part{i}.csv"));
@@ -256,7 +236,7 @@ fn shards_merged_equal_the_whole_grid() {
 
 #[test]
 fn merge_names_the_line_of_a_truncated_or_corrupt_part() {
-    let dir = temp_dir("corrupt");
+    let dir = scratch("corrupt");
     let text = whole_tiny();
     let truncated = dir.join("truncated.csv");
     std::fs::write(&truncated, &text[..text.len() / 2]).unwrap();
@@ -291,7 +271,7 @@ fn merge_names_the_line_of_a_truncated_or_corrupt_part() {
 /// replicas, and the refused merge writes nothing.
 #[test]
 fn merge_refuses_runs_of_another_scene_under_one_name_and_writes_nothing() {
-    let dir = temp_dir("two_grids");
+    let dir = scratch("two_grids");
     let part = |name: &str, phi: &str, seed: u32| {
         let path = dir.join(name);
         let rows: String = ["1", "3"]
@@ -315,7 +295,7 @@ fn merge_refuses_runs_of_another_scene_under_one_name_and_writes_nothing() {
 
 #[test]
 fn bad_grids_are_refused_naming_the_problem() {
-    let dir = temp_dir("badgrid");
+    let dir = scratch("badgrid");
     let cases = [
         ("name = \"g\"\n[scene]\nbox = { l_x = 8.0, l_y = 12.0, l_z = 8.0 }\nfluid = { profile = \"0.1*sin(2*pi*y/L)\" }\n[vary]\n\"particles.phi\" = [0.5, 0.9]\n", "scene g_001: scene field `particles.phi`"),
         ("name = \"g\"\n[scene]\nbox = { l_x = 8.0, l_y = 12.0, l_z = 8.0 }\nparticles = { phi = 0.5 }\nfluid = { profile = \"0.1*sin(2*pi*y/L)\" }\n[vary]\n\"particles.phy\" = [0.5]\n", "unknown field `phy`"),
@@ -333,7 +313,7 @@ fn bad_grids_are_refused_naming_the_problem() {
 
 #[test]
 fn plot_draws_one_figure_per_scene() {
-    let dir = temp_dir("plot");
+    let dir = scratch("plot");
     let data = dir.join("tiny.csv");
     std::fs::write(&data, whole_tiny()).unwrap();
     let o = suspflow(&[
@@ -353,7 +333,7 @@ fn plot_draws_one_figure_per_scene() {
 
 #[test]
 fn compare_finds_a_profile_agrees_with_itself_and_not_with_another_scene() {
-    let dir = temp_dir("compare");
+    let dir = scratch("compare");
     let lines: Vec<&str> = whole_tiny().lines().collect();
     let (a, b) = (dir.join("a.csv"), dir.join("b.csv"));
     std::fs::write(&a, format!("{}\n{}\n", lines[0], lines[1..7].join("\n"))).unwrap();
@@ -382,7 +362,7 @@ fn compare_finds_a_profile_agrees_with_itself_and_not_with_another_scene() {
 
 #[test]
 fn generate_keeps_a_dataset_it_did_not_write_unless_forced() {
-    let dir = temp_dir("foreign");
+    let dir = scratch("foreign");
     let out = dir.join("mine.csv");
     std::fs::write(&out, "precious,data\n1,2\n").unwrap();
     let o = generate("tests/grids/tiny.toml", &out, &["--shard", "0/4"]);
@@ -417,7 +397,7 @@ fn generate_keeps_a_dataset_it_did_not_write_unless_forced() {
 
 #[test]
 fn a_second_generate_on_the_same_output_is_refused_naming_the_first() {
-    let dir = temp_dir("lock");
+    let dir = scratch("lock");
     let out = dir.join("tiny.csv");
     let mut first = spawn_tiny_generate(&out);
     let lock = dir.join("tiny.csv.work/generate.lock");
@@ -448,7 +428,7 @@ fn a_second_generate_on_the_same_output_is_refused_naming_the_first() {
 
 #[test]
 fn plot_refuses_scattered_or_unsafe_scene_ids() {
-    let dir = temp_dir("plot-bad");
+    let dir = scratch("plot-bad");
     let lines: Vec<&str> = whole_tiny().lines().collect();
     let plot = |name: &str, text: String| {
         let data = dir.join(name);
@@ -505,7 +485,7 @@ fn plot_refuses_scattered_or_unsafe_scene_ids() {
 
 #[test]
 fn compare_refuses_several_scenes_bad_cells_and_negative_errors() {
-    let dir = temp_dir("compare-bad");
+    let dir = scratch("compare-bad");
     let lines: Vec<&str> = whole_tiny().lines().collect();
     let header: Vec<&str> = lines[0].split(',').collect();
     let column = |name: &str| header.iter().position(|c| *c == name).unwrap();
@@ -570,31 +550,9 @@ fn compare_refuses_several_scenes_bad_cells_and_negative_errors() {
     );
 }
 
-/// The cells of column `name` in CSV `text`.
-fn csv_column(text: &str, name: &str) -> Vec<String> {
-    let mut reader = csv::Reader::from_reader(text.as_bytes());
-    let k = reader
-        .headers()
-        .unwrap()
-        .iter()
-        .position(|c| c == name)
-        .unwrap_or_else(|| panic!("no column {name}"));
-    reader
-        .records()
-        .map(|r| r.unwrap()[k].to_string())
-        .collect()
-}
-
-fn numbers(text: &str, name: &str) -> Vec<f64> {
-    csv_column(text, name)
-        .iter()
-        .map(|c| c.parse().unwrap())
-        .collect()
-}
-
 #[test]
 fn replicas_run_apart_and_the_ensemble_table_averages_them() {
-    let dir = temp_dir("replicas");
+    let dir = scratch("replicas");
     let out = dir.join("reps.csv");
     let o = generate("tests/grids/replicas.toml", &out, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -784,7 +742,7 @@ fn replicas_run_apart_and_the_ensemble_table_averages_them() {
 
 #[test]
 fn generate_keeps_an_ensemble_table_it_did_not_write_unless_forced() {
-    let dir = temp_dir("foreign-ensemble");
+    let dir = scratch("foreign-ensemble");
     let out = dir.join("reps.csv");
     let theirs = dir.join("reps.ensemble.csv");
     std::fs::write(&theirs, "precious\n").unwrap();

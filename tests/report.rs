@@ -3,16 +3,16 @@
 //! datasets and models: every section and figure is produced, errors fall with averaging,
 //! the tuned trees fit better than a few, the automatic dt is stable, and a step 16x too large is caught
 //! with its cause named instead of ending in NaN.
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use common::{s, scratch, suspflow};
+use std::path::Path;
+use std::process::Output;
 
 fn report(dir: &Path, extra: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_suspflow"))
-        .args(["report", "--name", "t", "--out", dir.to_str().unwrap()])
-        .args(extra)
-        .current_dir(PathBuf::from(env!("CARGO_MANIFEST_DIR")))
-        .output()
-        .unwrap()
+    let mut args = vec!["report", "--name", "t", "--out", s(dir)];
+    args.extend_from_slice(extra);
+    suspflow(&args)
 }
 
 /// Cells of the markdown table rows of `md` that start with `prefix`.
@@ -31,8 +31,7 @@ fn percent(cell: &str) -> f64 {
 
 #[test]
 fn quick_report_on_tiny_scenes_has_every_section_and_names_failures() {
-    let dir = std::env::temp_dir().join(format!("suspflow-report-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = scratch("quick");
     let out = report(
         &dir,
         &[
@@ -158,7 +157,7 @@ fn quick_report_on_tiny_scenes_has_every_section_and_names_failures() {
 
 #[test]
 fn bad_report_options_are_refused_with_the_reason() {
-    let dir = std::env::temp_dir().join(format!("suspflow-report-bad-{}", std::process::id()));
+    let dir = scratch("bad");
     for (args, expected) in [
         (
             vec!["--partial", "10"],

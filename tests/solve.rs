@@ -1,39 +1,10 @@
 //! End-to-end `suspflow solve`: a scene's profile from its forcing alone, with the shipped
 //! models.
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn suspflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_suspflow"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("runs suspflow")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("suspflow-solve-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// Column `name` of a CSV file without quoted commas.
-fn column(text: &str, name: &str) -> Vec<f64> {
-    let mut lines = text.lines();
-    let index = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .position(|c| c == name)
-        .unwrap();
-    lines
-        .map(|l| l.split(',').nth(index).unwrap().parse().unwrap())
-        .collect()
-}
+use common::{numbers, s, scratch, suspflow};
+use std::path::Path;
+use std::process::Command;
 
 /// A scene like the training scenes (phi 0.54, L_y 50, `0.1 sin(2 pi y / L)`), 25 bins.
 const TRAINING_LIKE: &str = "name = \"like_train\"\n[box]\nl_x = 17.0\nl_y = 50.0\nl_z = 17.0\n\
@@ -61,12 +32,12 @@ fn solve_writes_a_profile_whose_phi_loc_averages_to_phi_and_keeps_earlier_ones()
         let stderr = String::from_utf8_lossy(&result.stderr);
         assert!(result.status.success(), "{closure}: {stderr}");
         let text = std::fs::read_to_string(solution.join("profile.csv")).unwrap();
-        let phi_loc = column(&text, "phi_loc");
+        let phi_loc = numbers(&text, "phi_loc");
         assert_eq!(phi_loc.len(), 25);
         let mean = phi_loc.iter().sum::<f64>() / phi_loc.len() as f64;
         assert!((mean - 0.54).abs() < 1e-6, "{closure}: mean phi_loc {mean}");
         // The drag on the particles sums to zero over the period (the balance telescopes).
-        let f_x = column(&text, "f_x");
+        let f_x = numbers(&text, "f_x");
         let total: f64 = f_x.iter().sum();
         let scale: f64 = f_x.iter().map(|f| f.abs()).sum();
         assert!(

@@ -1,17 +1,13 @@
 //! End-to-end `train`, `predict`, `validate` and `bench-predict` on synthetic tables with the
 //! simulator's column schema and known smooth laws.
+mod common;
+
+use common::{csv_column, numbers, s, scratch, stderr, suspflow};
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn suspflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_suspflow"))
-        .args(args)
-        .output()
-        .expect("runs suspflow")
-}
+use std::process::Output;
 
 /// Runs `suspflow args`, failing the test with its standard error if it fails.
 fn suspflow_ok(args: &[&str]) -> Output {
@@ -27,26 +23,13 @@ fn suspflow_ok(args: &[&str]) -> Output {
 /// Runs `suspflow args`, expecting a clean failure; returns its standard error.
 fn suspflow_err(args: &[&str]) -> String {
     let out = suspflow(args);
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    let err = stderr(&out);
     assert!(!out.status.success(), "suspflow {args:?} should fail");
     assert!(
         !err.contains("panicked"),
         "suspflow {args:?} panicked:\n{err}"
     );
     err
-}
-
-/// A fresh directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("suspflow-surrogate-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn s(path: &Path) -> &str {
-    path.to_str().unwrap()
 }
 
 /// The simulator's `profile.csv` columns (docs/physics.md section 8), in its order.
@@ -211,14 +194,6 @@ fn rel_l2(truth: &[f64], predicted: &[f64], (min, max): (f64, f64)) -> f64 {
     (residual / norm).sqrt()
 }
 
-/// The cells of column `name` of a CSV file without quoted commas (a `predict` output).
-fn numeric_column(text: &str, name: &str) -> Vec<f64> {
-    text_column(text, name)
-        .iter()
-        .map(|c| c.parse().unwrap())
-        .collect()
-}
-
 /// Trains untuned models of the given mappings (all when empty) on `data` into `models`,
 /// replacing models of those mappings already there.
 fn train_untuned(data: &Path, models: &Path, mappings: &[&str]) {
@@ -297,7 +272,7 @@ fn train_then_predict_reproduces_a_smooth_law() {
         let in_line = in_line.replace('"', "");
         assert!(out_line.starts_with(&format!("{in_line},")), "{out_line}");
     }
-    let got = numeric_column(&text, "mu_pred");
+    let got = numbers(&text, "mu_pred");
     let truth: Vec<f64> = std::fs::read_to_string(&data)
         .unwrap()
         .lines()
@@ -320,20 +295,6 @@ fn train_then_predict_reproduces_a_smooth_law() {
     .sqrt();
     assert!(err < 0.01, "in-sample relative error {err}");
     std::fs::remove_dir_all(&dir).ok();
-}
-
-/// The text cells of column `name` of a `predict` output.
-fn text_column(text: &str, name: &str) -> Vec<String> {
-    let mut lines = text.lines();
-    let index = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .position(|c| c == name)
-        .unwrap();
-    lines
-        .map(|l| l.split(',').nth(index).unwrap().to_owned())
-        .collect()
 }
 
 #[test]
@@ -360,8 +321,8 @@ fn rows_outside_the_training_domain_are_flagged_counted_and_scored_apart() {
         s(&pred),
     ]);
     let text = std::fs::read_to_string(&pred).unwrap();
-    let flags = text_column(&text, "in_domain");
-    let distance = numeric_column(&text, "domain_distance");
+    let flags = csv_column(&text, "in_domain");
+    let distance = numbers(&text, "domain_distance");
     assert_eq!(flags.len(), 20);
     assert_eq!(flags[2], "false", "J beyond the training range");
     assert_eq!(flags[4], "false", "phi beyond the training range");
@@ -409,8 +370,8 @@ fn rows_outside_the_training_domain_are_flagged_counted_and_scored_apart() {
         range["min"].as_f64().unwrap(),
         range["max"].as_f64().unwrap(),
     );
-    let truth = numeric_column(&rows, "mu");
-    let predicted = numeric_column(&text, "mu_pred");
+    let truth = numbers(&rows, "mu");
+    let predicted = numbers(&text, "mu_pred");
     for (profile, inside) in [("in domain", "true"), ("out of domain", "false")] {
         let pick = |v: &[f64]| -> Vec<f64> {
             v.iter()
@@ -528,10 +489,7 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
                 range["min"].as_f64().unwrap(),
                 range["max"].as_f64().unwrap(),
             );
-            let (truth, predicted) = (
-                truth_of(o),
-                numeric_column(&predicted_text, &format!("{o}_pred")),
-            );
+            let (truth, predicted) = (truth_of(o), numbers(&predicted_text, &format!("{o}_pred")));
             let part = |keep: bool| -> (Vec<f64>, Vec<f64>) {
                 let pick = |v: &[f64]| {
                     v.iter()
@@ -1342,11 +1300,9 @@ fn predict_counts_the_values_clipped_into_the_physical_range() {
     ]);
     let stderr = String::from_utf8_lossy(&run.stderr);
     let predicted = String::from_utf8_lossy(&run.stdout);
-    let phi_loc = numeric_column(&predicted, "phi_loc_pred");
+    let phi_loc = numbers(&predicted, "phi_loc_pred");
     assert!(phi_loc.iter().all(|&p| p > 0.0 && p < 0.74), "{phi_loc:?}");
-    assert!(numeric_column(&predicted, "mu_pred")
-        .iter()
-        .all(|&m| m >= 0.0));
+    assert!(numbers(&predicted, "mu_pred").iter().all(|&m| m >= 0.0));
     assert!(
         stderr.contains("2 predicted values of `dv` left their physical range"),
         "{stderr}"

@@ -58,10 +58,8 @@ impl Report {
 /// report. Returns the run summary (summary.json) as JSON text.
 #[pyfunction]
 #[pyo3(signature = (scene, out, threads = 0, resume = false, snapshot = None, snapshot_format = "xyz", progress = None))]
-#[allow(clippy::too_many_arguments)]
 pub fn simulate(
-    py: Python<'_>,
-    scene: &Scene,
+    scene: &Bound<'_, Scene>,
     out: PathBuf,
     threads: usize,
     resume: bool,
@@ -69,6 +67,8 @@ pub fn simulate(
     snapshot_format: &str,
     progress: Option<PyObject>,
 ) -> PyResult<String> {
+    let py = scene.py();
+    let scene = scene.borrow();
     let scene = &scene.inner;
     let format: SnapshotFormat = snapshot_format.parse().map_err(Error::from)?;
     if snapshot == Some(0) {

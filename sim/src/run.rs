@@ -441,9 +441,9 @@ pub fn run(
         threads: rayon::current_num_threads(),
         undefined_bins,
         warnings,
-        stress_convention: "sigma = sum of stresslets -F_ij (x) r_ij / V_b, positive in compression (minus the Cauchy stress); P = tr(sigma)/3",
+        stress_convention: "sigma = sum of stresslets -F_ij (x) r_ij / V_b, positive in compression (minus the Cauchy stress); P = tr(sigma)/3".into(),
         observables: scene.file.observables,
-        code_version: opts.code_version,
+        code_version: opts.code_version.into(),
     };
     // Not in a Brownian scene: its random loads are not in the binned stress (their
     // direct virial averages to zero, docs/physics.md section 11), so the binned balance

@@ -21,6 +21,7 @@ use crate::scene_work::{Recorded, SceneStatus, SceneWork};
 use anyhow::{bail, Context};
 use sim::input::grid::Grid;
 use sim::output::atomic_write::write_atomic;
+use sim::output::run_summary::RunSummary;
 use sim::sampling::block_sums::Estimate;
 use sim::sampling::shear_rheology::ShearRheology;
 use std::collections::BTreeMap;
@@ -60,19 +61,6 @@ pub struct Args {
     force: bool,
 }
 
-/// The fields of a homogeneous-shear scene's summary.json this command reads.
-#[derive(serde::Deserialize)]
-struct ShearSummary {
-    n_particles: usize,
-    phi_actual: f64,
-    strain_to_steady: f64,
-    mean_overlap: f64,
-    shear: Option<ShearRheology>,
-    /// Box totals of the stress parts (`schema::columns::STRESS_PARTS`).
-    #[serde(default)]
-    stress_parts: BTreeMap<String, Estimate>,
-}
-
 /// The parts of `eta_r` a table and figure show: name in `flow_curves.csv`, legend, and
 /// the stress part (`schema::columns::STRESS_PARTS`) it is `-sigma_xy / (eta gdot)` of.
 /// `contact + lubrication` is the box's `eta_r`; the drag stresslet (the isolated spheres'
@@ -100,7 +88,7 @@ fn label(state: &State) -> String {
 /// One finished scene: what the table shows of it beside its point on the flow curves.
 struct FlowPoint {
     id: String,
-    summary: ShearSummary,
+    summary: Box<RunSummary>,
     rheology: ShearRheology,
     /// Thermal energy (0 without Brownian forces).
     kt: f64,
@@ -149,10 +137,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         };
         let work = SceneWork::new(&args.runs, &gs.label());
-        if !matches!(work.status()?, SceneStatus::Done(_)) {
+        let SceneStatus::Done(summary) = work.status()? else {
             missing.push(gs.label());
             continue;
-        }
+        };
         if work.recorded_scene(&gs.scene.file)? != Recorded::Same {
             bail!(
                 "{}: the run there was not made for scene {} of {} (another shear rate, \
@@ -163,13 +151,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 args.grid.display()
             );
         }
-        let path = work.dir.join("summary.json");
-        let bytes = std::fs::read(&path).with_context(|| format!("reading {}", path.display()))?;
-        let summary: ShearSummary = serde_json::from_slice(&bytes)
-            .with_context(|| format!("reading {}", path.display()))?;
         let rheology = summary
             .shear
-            .with_context(|| format!("{}: no `shear` box totals", path.display()))?;
+            .with_context(|| format!("{}: no `shear` box totals", work.summary_json().display()))?;
         let eta_gdot = gs.scene.file.fluid.eta * gdot;
         let eta_r_bins = bin_viscosity(&Dataset::read_csv(work.profile_csv())?, eta_gdot)?;
         let parts = PARTS.map(|(_, _, part)| {

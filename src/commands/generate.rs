@@ -21,7 +21,7 @@
 use crate::ensemble_table;
 use crate::file_lock::FileLock;
 use crate::output_guard;
-use crate::scene_work::{SceneStatus, SceneSummary, SceneWork};
+use crate::scene_work::{summary_cells, SceneStatus, SceneWork, SUMMARY_COLUMNS};
 use anyhow::{bail, Context};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use schema::RunTable;
@@ -380,7 +380,7 @@ fn write_outputs(
         "rho",
         "stokes",
     ];
-    header.extend(SceneSummary::COLUMNS);
+    header.extend(SUMMARY_COLUMNS);
     table.write_record(&header)?;
     for gs in scenes {
         let work = SceneWork::new(&outputs.work, &gs.label());
@@ -413,8 +413,8 @@ fn write_outputs(
             gs.scene.stokes.to_string(),
         ];
         match &summary {
-            Some(s) => row.extend(s.cells()),
-            None => row.extend(SceneSummary::COLUMNS.map(|_| String::new())),
+            Some(s) => row.extend(summary_cells(s)),
+            None => row.extend(SUMMARY_COLUMNS.map(|_| String::new())),
         }
         table.write_record(&row)?;
     }

@@ -3,7 +3,7 @@
 use crate::error::SimError;
 use crate::input::scene::FluidSection;
 use crate::input::scene_limits::show;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// Largest inertia-diffusion ratio `tau_I / tau_B` the seeds state as negligible (thesis
@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 pub const INERTIA_DIFFUSION_LIMIT: f64 = 0.01;
 
 /// Thermal energy and what it sets.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ThermalScales {
     /// Thermal energy `kT` (units of energy: eta a^3 / time).
     pub kt: f64,

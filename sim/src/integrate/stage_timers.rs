@@ -1,5 +1,5 @@
 //! Wall-clock time spent in each stage of a run, reported in summary.json.
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
 
 /// Stages of a step.
@@ -12,7 +12,7 @@ pub enum Stage {
 }
 
 /// Accumulated seconds per stage.
-#[derive(Clone, Copy, Debug, Default, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct StageTimers {
     pub neighbours_s: f64,
     pub forces_s: f64,

@@ -7,11 +7,12 @@ use crate::forces::force_field::ForceField;
 use crate::forces::repulsion::Repulsion;
 use crate::input::integrator::Integrator;
 use crate::input::scene::{Scene, SceneFile};
+use crate::output::run_summary::null_as_infinity;
 use crate::state::particles::sphere_mass;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Which stability limit set the time step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DtLimit {
     Contact,
@@ -49,7 +50,7 @@ impl std::fmt::Display for DtLimit {
 }
 
 /// The critical steps of each term and the step chosen.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TimeStep {
     /// Chosen step.
     pub dt: f64,
@@ -61,13 +62,17 @@ pub struct TimeStep {
     /// implicitly, by the lubrication squeeze resistance `X = X11A(xi_min)` every
     /// overlapping pair carries, `(X + sqrt(X^2 + 4 k_n m_red)) / k_n` (see
     /// [`damped_spring_limit`]); the same with `k_t` and `Y11A(xi_min)` for friction.
+    #[serde(deserialize_with = "null_as_infinity")]
     pub contact_critical: f64,
     /// `2 m / (6 pi eta a)`, explicit stability of the Stokes drag (infinite without drag).
+    #[serde(deserialize_with = "null_as_infinity")]
     pub drag_critical: f64,
     /// `2 m_red / X11A(xi_min)`, explicit stability of the lubrication squeeze term.
+    #[serde(deserialize_with = "null_as_infinity")]
     pub lubrication_critical: f64,
     /// `xi_min / gdot_max`, the implicit step's accuracy cap: the strain per step at most
     /// the inner lubrication gap.
+    #[serde(deserialize_with = "null_as_infinity")]
     pub accuracy_limit: f64,
     /// The integrator the step was chosen for.
     pub integrator: Integrator,

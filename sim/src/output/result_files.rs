@@ -40,7 +40,7 @@ pub fn profile_rows(scene: &Scene, profile: &BinAverages, summary: &RunSummary) 
             f.seed,
             num(summary.strain_to_steady),
             num(summary.momentum_residual.unwrap_or(f64::NAN)),
-            summary.code_version,
+            &summary.code_version,
             num(profile.y[k]),
             num(profile.u_inf[k])
         );

@@ -10,11 +10,12 @@ use crate::sampling::shear_rheology::ShearRheology;
 use crate::sampling::steady_state::Drift;
 use crate::sampling::stress_checks::StressChecks;
 use crate::sampling::stress_parts::StressParts;
-use serde::Serialize;
+use serde::{Deserialize, Deserializer, Serialize};
 use std::collections::BTreeMap;
 
-/// What a finished run reports besides its profile (written to summary.json).
-#[derive(Clone, Debug, Serialize)]
+/// What a finished run reports besides its profile (written to summary.json, and read back
+/// from it).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunSummary {
     pub name: String,
     pub n_particles: usize,
@@ -29,6 +30,8 @@ pub struct RunSummary {
     pub timestep: TimeStep,
     pub steps: u64,
     pub strain_total: f64,
+    /// NaN when the run never reached steady state (written `null`).
+    #[serde(deserialize_with = "null_as_nan")]
     pub strain_to_steady: f64,
     pub steady_drift: Vec<Drift>,
     pub snapshots: usize,
@@ -38,7 +41,9 @@ pub struct RunSummary {
     /// The independent checks of the bin-averaged stress.
     pub stress_checks: StressChecks,
     /// Box totals of the stress parts (contact, lubrication, drag, structural Brownian;
-    /// docs/physics.md section 11), by the names of `stress.csv`'s columns.
+    /// docs/physics.md section 11), by the names of `stress.csv`'s columns; empty in the
+    /// summaries of runs made before it was added.
+    #[serde(default)]
     pub stress_parts: BTreeMap<String, Estimate>,
     /// Box totals of a homogeneous-shear scene (docs/physics.md section 10).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -55,10 +60,21 @@ pub struct RunSummary {
     pub threads: usize,
     pub undefined_bins: Vec<usize>,
     pub warnings: Vec<String>,
-    pub stress_convention: &'static str,
+    pub stress_convention: String,
     /// The definitions of the observables in the profile.
     pub observables: Conventions,
-    pub code_version: &'static str,
+    pub code_version: String,
+}
+
+/// Reads a number that JSON holds as `null` when it was not finite (serde_json writes NaN
+/// and the infinities so) as NaN.
+pub(crate) fn null_as_nan<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// Reads a limit that JSON holds as `null` when it was infinite (no such limit) as infinity.
+pub(crate) fn null_as_infinity<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }
 
 /// Result of a completed run.
@@ -69,4 +85,119 @@ pub struct RunOutcome {
     pub stress: StressParts,
     /// The averaged snapshot sums, from which the profile under any convention follows.
     pub sums: BlockSums,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::input::integrator::Integrator;
+    use crate::integrate::timestep::DtLimit;
+
+    fn estimate(mean: f64) -> Estimate {
+        Estimate { mean, se: 0.1 }
+    }
+
+    /// A summary with every optional part present, and the limits that are infinite when
+    /// their term is off (JSON `null`).
+    fn summary() -> RunSummary {
+        RunSummary {
+            name: "tiny".into(),
+            n_particles: 50,
+            phi: 0.45,
+            phi_actual: 0.4493,
+            stokes: 0.01,
+            thermal: Some(ThermalScales {
+                kt: 0.5,
+                tau_b: 2.0,
+                tau_i: 0.01,
+                inertia_diffusion: 0.005,
+                peclet: None,
+            }),
+            dt: 1e-3,
+            dt_limit: "contact".into(),
+            timestep: TimeStep {
+                dt: 1e-3,
+                limit: DtLimit::Contact,
+                contact_critical: 0.02,
+                drag_critical: f64::INFINITY,
+                lubrication_critical: f64::INFINITY,
+                accuracy_limit: f64::INFINITY,
+                integrator: Integrator::Explicit,
+            },
+            steps: 1234,
+            strain_total: 5.0,
+            strain_to_steady: 1.2,
+            steady_drift: vec![Drift {
+                strain: 1.2,
+                chi2_u: 0.9,
+                chi2_sigma_xy: 1.1,
+                chi2_phi_loc: 1.0,
+            }],
+            snapshots: 40,
+            wall_s: 2.5,
+            particle_steps_per_s: 24680.0,
+            momentum_residual: Some(0.03),
+            stress_checks: StressChecks {
+                sigma_yy_chi2: 1.3,
+                sigma_yy_max_z: 2.1,
+                balance_residual: None,
+            },
+            stress_parts: BTreeMap::from([("sigma_xy_contact".to_string(), estimate(-0.2))]),
+            shear: Some(ShearRheology {
+                shear_rate: 0.1,
+                sigma_xy: estimate(-0.2),
+                p: estimate(0.5),
+                eta_r: estimate(2.0),
+                mu: estimate(0.4),
+                j: estimate(0.2),
+            }),
+            mean_overlap: 0.001,
+            max_overlap: 0.01,
+            list_builds: 17,
+            solver_iterations_mean: None,
+            timers: StageTimers {
+                neighbours_s: 0.1,
+                forces_s: 1.5,
+                integration_s: 0.5,
+                sampling_s: 0.4,
+            },
+            threads: 2,
+            undefined_bins: vec![3],
+            warnings: vec!["a warning".into()],
+            stress_convention: "sigma = ...".into(),
+            observables: Conventions::default(),
+            code_version: "0.1.0".into(),
+        }
+    }
+
+    #[test]
+    fn a_written_summary_reads_back_equal() {
+        let written = summary();
+        let text = serde_json::to_string_pretty(&written).unwrap();
+        assert!(text.contains("\"accuracy_limit\": null"));
+        let read: RunSummary = serde_json::from_str(&text).unwrap();
+        assert_eq!(read, written);
+
+        // Without the optional parts, and a run that never reached steady state.
+        let written = RunSummary {
+            thermal: None,
+            shear: None,
+            strain_to_steady: f64::NAN,
+            ..summary()
+        };
+        let text = serde_json::to_string(&written).unwrap();
+        assert!(!text.contains("\"shear\"") && !text.contains("\"thermal\""));
+        let read: RunSummary = serde_json::from_str(&text).unwrap();
+        assert!(read.strain_to_steady.is_nan());
+        assert_eq!(
+            RunSummary {
+                strain_to_steady: 0.0,
+                ..read
+            },
+            RunSummary {
+                strain_to_steady: 0.0,
+                ..written
+            }
+        );
+    }
 }

@@ -54,8 +54,7 @@ mod tests {
 
     #[test]
     fn a_second_holder_is_refused_until_the_first_lets_go() {
-        let dir = std::env::temp_dir().join(format!("suspflow-lock-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::test_dir("lock");
         let path = dir.join("lock");
         let first = FileLock::acquire(&path, "out.csv", "generate").unwrap();
         let message = FileLock::acquire(&path, "out.csv", "generate")

@@ -16,3 +16,13 @@ mod threads;
 /// Version of the code that produced a result: package version, commit, and `-dirty` when
 /// the working tree had uncommitted changes at build time (see `build/stamp.rs`).
 pub const CODE_VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("SUSPFLOW_COMMIT"));
+
+/// A fresh directory for one unit test: `suspflow-<name>-<pid>` in the system's temporary
+/// folder (created; emptied if an earlier run left it).
+#[cfg(test)]
+fn test_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("suspflow-{name}-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}

@@ -53,8 +53,7 @@ mod tests {
 
     #[test]
     fn refuses_existing_paths_unless_forced_and_wrong_kinds() {
-        let dir = std::env::temp_dir().join(format!("suspflow-guard-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::test_dir("guard");
         let file = dir.join("f.csv");
         assert!(refuse_unless_force(&file, false, "a dataset", "choose another --out").is_ok());
         std::fs::write(&file, "x\n").unwrap();

@@ -169,8 +169,7 @@ mod tests {
 
     #[test]
     fn a_summary_missing_a_field_is_refused_naming_the_field_and_the_file() {
-        let dir = std::env::temp_dir().join(format!("suspflow-summary-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::test_dir("summary");
         let work = SceneWork { dir: dir.clone() };
         std::fs::write(work.profile_csv(), "").unwrap();
         std::fs::write(work.summary_json(), r#"{"name": "tiny"}"#).unwrap();

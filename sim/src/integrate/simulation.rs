@@ -626,6 +626,13 @@ impl Simulation {
         self.solver_totals
     }
 
+    /// Mean conjugate-gradient iterations per implicit solve since the totals were
+    /// `before` ([`Simulation::solver_totals`]); `None` when no solve ran (explicit step).
+    pub fn iterations_per_solve_since(&self, before: (u64, u64)) -> Option<f64> {
+        let solves = self.solver_totals.0 - before.0;
+        (solves > 0).then(|| (self.solver_totals.1 - before.1) as f64 / solves as f64)
+    }
+
     /// Switches on the timing of the implicit solve's parallel passes (off by default:
     /// it reads the clock twice per range and pass).
     pub fn time_solve_passes(&mut self) {

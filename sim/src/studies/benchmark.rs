@@ -123,7 +123,6 @@ pub fn measure(scene: &Scene, settings: &BenchSettings) -> Result<BenchRecord, S
     let n = sim.particles.len() as f64;
     let gdot_max = scene.gdot_max();
     let s_per_strain = loop_s / (steps as f64 * dt * gdot_max);
-    let solves = sim.solver_totals().0 - before.0;
     Ok(BenchRecord {
         n: sim.particles.len(),
         threads: rayon::current_num_threads(),
@@ -135,8 +134,7 @@ pub fn measure(scene: &Scene, settings: &BenchSettings) -> Result<BenchRecord, S
         dt,
         loop_s,
         contacts_per_particle: 2.0 * sim.contacts.contacts as f64 / n,
-        solver_iterations: (solves > 0)
-            .then(|| (sim.solver_totals().1 - before.1) as f64 / solves as f64),
+        solver_iterations: sim.iterations_per_solve_since(before),
         lammps_ratio: settings
             .lammps_pps
             .map(|pps| n / (pps * PEER_DT * gdot_max) / s_per_strain),
@@ -144,7 +142,7 @@ pub fn measure(scene: &Scene, settings: &BenchSettings) -> Result<BenchRecord, S
         solve_passes: sim
             .solve_pass_times()
             .zip(passes_before)
-            .filter(|_| solves > 0)
+            .filter(|_| sim.solver_totals().0 > before.0)
             .map(|(now, before)| now.since(&before)),
     })
 }

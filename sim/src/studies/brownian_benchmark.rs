@@ -94,7 +94,6 @@ pub fn measure_brownian(
     }
     let loop_s = t.elapsed().as_secs_f64();
     let s_per_tau_b = loop_s / (steps as f64 * dt / tau_b);
-    let solves = sim.solver_totals().0 - before.0;
     Ok(BrownianBenchRecord {
         n: sim.particles.len(),
         threads: rayon::current_num_threads(),
@@ -106,8 +105,7 @@ pub fn measure_brownian(
         s_per_tau_b,
         t_trans_over_kt: trans / steps as f64,
         t_rot_over_kt: rot / steps as f64,
-        solver_iterations: (solves > 0)
-            .then(|| (sim.solver_totals().1 - before.1) as f64 / solves as f64),
+        solver_iterations: sim.iterations_per_solve_since(before),
         lammps_ratio: settings.lammps_s_per_tau_b.map(|peer| peer / s_per_tau_b),
         stages: sim.timers.since(&timers_before),
     })

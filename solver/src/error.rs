@@ -41,11 +41,12 @@ pub enum SolverError {
         tolerance: f64,
     },
 
-    /// Newton's method stalled from `u = u_inf`, and the continuation from the local law
-    /// stalled too, at weight `reached` of the closure.
+    /// Every attempt of the solve stalled: Newton's method from the local law's solution,
+    /// the continuation from the law (at weight `reached` of the closure), and Newton's
+    /// method from `u = u_inf` (`direct`).
     #[error(
-        "{direct}; the continuation from the local law then stalled at weight {reached:.3} of \
-         the closure (steps down to 1/64; largest scaled residual {residual:.3e})"
+        "the continuation from the local law stalled at weight {reached:.3} of the closure \
+         (steps down to 1/64; largest scaled residual {residual:.3e}), and from u = u_inf {direct}"
     )]
     ContinuationStalled {
         direct: Box<SolverError>,

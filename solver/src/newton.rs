@@ -27,7 +27,7 @@
 //! three or more apart are perturbed together, in three to five residual evaluations per
 //! block of unknowns, and each change is credited to the rows beside the bin it perturbed.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{linalg::LU, DMatrix, DVector, Dyn};
 
 use crate::closure::{Closure, Descriptor};
 use crate::error::{Result, SolverError, Stall};
@@ -41,11 +41,16 @@ const DELTA_V_EPSILON: f64 = 1e-5;
 const SHEAR_FLOOR: f64 = 1e-3;
 /// Newton iterations before giving up, from `u = u_inf`.
 const MAX_ITERATIONS: usize = 30;
+/// Newton iterations of a closure from the law's solution before the continuation.
+const DIRECT_ITERATIONS: usize = 12;
 /// Newton iterations before a step of the continuation is halved: a converging step takes
 /// 3-8 from the last solution.
 const STEP_ITERATIONS: usize = 12;
 /// Converged when every scaled residual is below this.
 pub const TOLERANCE: f64 = 1e-9;
+/// A kept Jacobian's full step is taken when it brings the residual's norm below this
+/// fraction of the last one.
+const KEPT_JACOBIAN_REDUCTION: f64 = 0.5;
 /// Relative finite-difference step of the Jacobian.
 const FD_STEP: f64 = 1e-7;
 /// Smallest step in the continuation weight before the solve gives up.
@@ -302,13 +307,19 @@ impl ProfileProblem {
         Ok(x)
     }
 
-    /// Solves the balance with `closure`, starting from `u = u_inf` and `P = p_start`.
-    /// Where Newton's method stalls from there, and `law` is given (a closure that converges,
-    /// the local rheology), the solve follows the closures `(1 - s) law + s closure` from the
-    /// law's solution at `s = 0` to `s = 1`, each from the last, with steps in `s` of 1/4
-    /// that grow by half on success and halve when [`STEP_ITERATIONS`] are not enough (down to
-    /// 1/64). A solve that does
-    /// not reach [`TOLERANCE`] is an error saying how far it got.
+    /// Solves the balance with `closure`. Without `law`, Newton's method starts from
+    /// `u = u_inf` and `P = p_start`. With `law` (a closure that converges, the local
+    /// rheology), three attempts in turn, the cheapest first, until one reaches
+    /// [`TOLERANCE`]:
+    /// 1. Newton's method from the law's solution, for [`DIRECT_ITERATIONS`];
+    /// 2. the continuation: the closures `(1 - s) law + s closure` from the law's solution at
+    ///    `s = 0` to `s = 1`, each from the last, with steps in `s` of 1/4 that grow by half on
+    ///    success and halve when [`STEP_ITERATIONS`] are not enough (down to 1/64);
+    /// 3. Newton's method from `u = u_inf` for [`MAX_ITERATIONS`] (a closure of trees can
+    ///    have several solutions; a continuation branch that folds back misses the one
+    ///    reached from the forcing).
+    ///
+    /// A solve that does not reach [`TOLERANCE`] is an error saying how far each got.
     pub fn solve(
         &self,
         closure: &dyn Closure,
@@ -335,17 +346,59 @@ impl ProfileProblem {
             ));
         }
         let layout = self.layout(closure);
-        let direct = self.start(closure, layout, None, p_start, floor);
-        let stall =
-            match direct.and_then(|x| self.newton(closure, layout, x, floor, MAX_ITERATIONS)) {
-                Ok(done) => return self.solution(closure, layout, &done, floor, false),
-                Err(e @ SolverError::NotConverged { .. }) if law.is_some() => e,
-                Err(e) => return Err(e),
-            };
-        let law = law.expect("checked above");
+        let Some(law) = law else {
+            let x = self.start(closure, layout, None, p_start, floor)?;
+            let done = self.newton(closure, layout, x, floor, MAX_ITERATIONS)?;
+            return self.solution(closure, layout, &done, floor, false);
+        };
         let law_layout = self.layout(law);
         let x = self.start(law, law_layout, None, p_start, floor)?;
-        let mut done = self.newton(law, law_layout, x, floor, MAX_ITERATIONS)?;
+        let law_done = self.newton(law, law_layout, x, floor, MAX_ITERATIONS)?;
+        let from_law = self
+            .start(closure, layout, Some(&law_done.x), p_start, floor)
+            .and_then(|x| self.newton(closure, layout, x, floor, DIRECT_ITERATIONS));
+        match from_law {
+            Ok(done) => {
+                let done = Converged {
+                    iterations: law_done.iterations + done.iterations,
+                    ..done
+                };
+                return self.solution(closure, layout, &done, floor, false);
+            }
+            Err(SolverError::NotConverged { .. }) => {}
+            Err(e) => return Err(e),
+        }
+        let (reached, residual) =
+            match self.continuation(closure, law, layout, law_done, p_start, floor)? {
+                Ok(done) => return self.solution(closure, layout, &done, floor, true),
+                Err(stalled) => stalled,
+            };
+        let from_forcing = self
+            .start(closure, layout, None, p_start, floor)
+            .and_then(|x| self.newton(closure, layout, x, floor, MAX_ITERATIONS));
+        match from_forcing {
+            Ok(done) => self.solution(closure, layout, &done, floor, false),
+            Err(e @ SolverError::NotConverged { .. }) => Err(SolverError::ContinuationStalled {
+                direct: Box::new(e),
+                reached,
+                residual,
+            }),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The continuation of [`ProfileProblem::solve`] from the law's solution `done`: the
+    /// solution at `s = 1`, or where it stalled (the weight reached and the largest scaled
+    /// residual of the last attempt).
+    fn continuation(
+        &self,
+        closure: &dyn Closure,
+        law: &dyn Closure,
+        layout: Layout,
+        mut done: Converged,
+        p_start: f64,
+        floor: f64,
+    ) -> Result<std::result::Result<Converged, (f64, f64)>> {
         let (mut s, mut ds) = (0.0, 0.25);
         loop {
             let target = f64::min(s + ds, 1.0);
@@ -365,18 +418,12 @@ impl ProfileProblem {
                     };
                     s = target;
                     if s == 1.0 {
-                        return self.solution(closure, layout, &done, floor, true);
+                        return Ok(Ok(done));
                     }
                     ds *= 1.5;
                 }
                 Err(SolverError::NotConverged { .. }) if ds > MIN_CONTINUATION_STEP => ds *= 0.5,
-                Err(SolverError::NotConverged { residual, .. }) => {
-                    return Err(SolverError::ContinuationStalled {
-                        direct: Box::new(stall),
-                        reached: s,
-                        residual,
-                    })
-                }
+                Err(SolverError::NotConverged { residual, .. }) => return Ok(Err((s, residual))),
                 Err(e) => return Err(e),
             }
         }
@@ -393,6 +440,10 @@ impl ProfileProblem {
     }
 
     /// Newton's method from `x`: the solution, the iterations taken and the final residual.
+    /// The Jacobian's factorisation is kept while its full steps at least halve the residual
+    /// (a closure of trees is piecewise linear once smoothed, so within one piece the kept
+    /// Jacobian is the exact one); a step that does not is taken again with a fresh Jacobian,
+    /// damped by halving until the sum of squared residuals falls.
     fn newton(
         &self,
         closure: &dyn Closure,
@@ -404,6 +455,7 @@ impl ProfileProblem {
         let norm = |e: &Evaluation| e.r.amax();
         let mut iterations = 0;
         let mut current = self.evaluate(closure, layout, &x, floor)?;
+        let mut kept: Option<LU<f64, Dyn, Dyn>> = None;
         while norm(&current) > TOLERANCE {
             let stalled = |stall, iterations| SolverError::NotConverged {
                 stall,
@@ -411,16 +463,24 @@ impl ProfileProblem {
                 residual: norm(&current),
                 tolerance: TOLERANCE,
             };
+            if let Some(step) = kept.as_ref().and_then(|lu| lu.solve(&(-&current.r))) {
+                let trial = &x + &step;
+                let e = self.evaluate(closure, layout, &trial, floor)?;
+                if e.r.norm() <= KEPT_JACOBIAN_REDUCTION * current.r.norm() {
+                    x = trial;
+                    current = e;
+                    continue;
+                }
+            }
             if iterations == limit {
                 return Err(stalled(Stall::IterationLimit(limit), iterations));
             }
             iterations += 1;
-            let jac = self.jacobian(closure, layout, &x, &current, floor)?;
-            let step = jac
-                .lu()
+            let lu = self.jacobian(closure, layout, &x, &current, floor)?.lu();
+            let step = lu
                 .solve(&(-&current.r))
                 .ok_or_else(|| stalled(Stall::SingularJacobian, iterations))?;
-            // Backtracking: halve the step until the sum of squared residuals falls.
+            kept = Some(lu);
             let mut t = 1.0;
             loop {
                 let trial = &x + &step * t;

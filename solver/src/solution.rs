@@ -21,7 +21,8 @@ pub struct ProfileSolution {
     /// The suspension temperature (eq 6.1) where the closure solves its balance (the
     /// nonlocal closure); empty otherwise.
     pub theta: Vec<f64>,
-    /// Newton iterations taken.
+    /// Newton iterations taken (fresh Jacobians, the local law's included; steps on a kept
+    /// Jacobian are not counted).
     pub iterations: usize,
     /// Largest scaled residual at the end.
     pub residual: f64,

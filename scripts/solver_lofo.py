@@ -14,7 +14,7 @@ them): whether each closure converges, and why not. The statistics live in the b
 only runs it and tabulates.
 
     python3 scripts/solver_lofo.py --suspflow target/release/suspflow \
-        --train datasets/wide.ensemble.csv --held-out datasets/plugs.ensemble.csv \
+        --train datasets/wide_plugs.ensemble.csv \
         --out reports/solver_lofo
 """
 import argparse

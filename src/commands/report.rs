@@ -37,7 +37,7 @@ pub struct Args {
     reference: Option<usize>,
     /// Training set of section 2: the shipped models' own training table, so that their
     /// tuned hyper-parameters apply.
-    #[arg(long, default_value = "datasets/wide.ensemble.csv")]
+    #[arg(long, default_value = "datasets/wide_plugs.ensemble.csv")]
     train: PathBuf,
     /// Validation set of sections 2 and 5.
     #[arg(long, default_value = "datasets/validate.csv")]

@@ -8,7 +8,8 @@
 //! domain ([`TrainingDomain`]), which splits the held-out rows into those inside and those
 //! outside. The error is the relative L2 error of eq 6.6 with the outputs min-max scaled on
 //! the fold's training rows, as in tuning and validation, on all held-out rows, the
-//! in-domain ones and the out-of-domain ones.
+//! in-domain ones and the out-of-domain ones; beside it the mean absolute error in the
+//! outputs' own units, since eq 6.6 on mu is dominated by the near-zero mu of plugs.
 
 use ndarray::{Array2, Axis};
 use rayon::prelude::*;
@@ -57,6 +58,9 @@ pub struct RowErrors {
     /// Relative L2 error of each output (eq 6.6), as a fraction; `None` without rows or when
     /// the variant could not be fitted.
     pub per_output: Option<Vec<f64>>,
+    /// Mean absolute error `<|predicted - truth|>` of each output, in the output's own units
+    /// (mu and phi_loc: dimensionless); `None` as `per_output`.
+    pub mean_absolute: Option<Vec<f64>>,
 }
 
 /// One variant's errors on one fold.
@@ -90,6 +94,8 @@ pub struct MeanErrors {
     pub families: usize,
     /// Mean error of each output over those families; `None` when there are none.
     pub per_output: Option<Vec<f64>>,
+    /// Mean over the same families of each output's mean absolute error (output units).
+    pub mean_absolute: Option<Vec<f64>>,
 }
 
 /// One variant's errors averaged over the families.
@@ -208,12 +214,16 @@ fn fold_errors(
             }
         };
         let scaled = match &predicted {
-            Ok(values) => Some(scaling.scale(values.view())?),
+            Ok(values) => Some((scaling.scale(values.view())?, values)),
             Err(_) => None,
         };
-        let [all, in_domain, out_of_domain] = classes
-            .each_ref()
-            .map(|rows| row_errors(&truth, scaled.as_ref(), rows));
+        let [all, in_domain, out_of_domain] = classes.each_ref().map(|rows| {
+            row_errors(
+                (&truth, &test.outputs),
+                scaled.as_ref().map(|(s, v)| (s, *v)),
+                rows,
+            )
+        });
         variants.push(VariantErrors {
             variant,
             all: all?,
@@ -229,35 +239,81 @@ fn fold_errors(
     })
 }
 
-/// The error of `predicted` (scaled; `None` for a variant without predictions) on `rows`.
+/// The errors of `predicted` on `rows`: eq 6.6 on the scaled outputs and the mean absolute
+/// error on the unscaled ones. `truth` and `predicted` are (scaled, unscaled) pairs;
+/// `predicted` is `None` for a variant without predictions.
 fn row_errors(
-    truth: &Array2<f64>,
-    predicted: Option<&Array2<f64>>,
+    truth: (&Array2<f64>, &Array2<f64>),
+    predicted: Option<(&Array2<f64>, &Array2<f64>)>,
     rows: &[usize],
 ) -> Result<RowErrors> {
-    let per_output = match predicted {
-        Some(predicted) if !rows.is_empty() => Some(relative_l2_error(
-            truth.select(Axis(0), rows).view(),
-            predicted.select(Axis(0), rows).view(),
-        )?),
-        _ => None,
+    let (per_output, mean_absolute) = match predicted {
+        Some((scaled, unscaled)) if !rows.is_empty() => {
+            let pick = |a: &Array2<f64>| a.select(Axis(0), rows);
+            let relative = relative_l2_error(pick(truth.0).view(), pick(scaled).view())?;
+            let absolute = (pick(unscaled) - pick(truth.1))
+                .mapv(f64::abs)
+                .mean_axis(Axis(0))
+                .map(|m| m.to_vec());
+            (Some(relative), absolute)
+        }
+        _ => (None, None),
     };
     Ok(RowErrors {
         rows: rows.len(),
         per_output,
+        mean_absolute,
     })
 }
 
-/// The mean over the folds that have errors of each output.
-fn mean_errors<'a>(errors: impl Iterator<Item = &'a RowErrors>) -> MeanErrors {
-    let present: Vec<&Vec<f64>> = errors.filter_map(|e| e.per_output.as_ref()).collect();
-    let per_output = present.first().map(|first| {
-        (0..first.len())
-            .map(|j| present.iter().map(|e| e[j]).sum::<f64>() / present.len() as f64)
-            .collect()
-    });
+/// The mean over the folds that have errors of each output, relative and absolute.
+fn mean_errors<'a>(errors: impl Iterator<Item = &'a RowErrors> + Clone) -> MeanErrors {
+    let mean = |pick: fn(&RowErrors) -> Option<&Vec<f64>>| {
+        let present: Vec<&Vec<f64>> = errors.clone().filter_map(pick).collect();
+        let per_output = present.first().map(|first| {
+            (0..first.len())
+                .map(|j| present.iter().map(|e| e[j]).sum::<f64>() / present.len() as f64)
+                .collect()
+        });
+        (present.len(), per_output)
+    };
+    let (families, per_output) = mean(|e| e.per_output.as_ref());
+    let (_, mean_absolute) = mean(|e| e.mean_absolute.as_ref());
     MeanErrors {
-        families: present.len(),
+        families,
         per_output,
+        mean_absolute,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ndarray::array;
+
+    #[test]
+    fn absolute_error_is_in_output_units_and_relative_error_on_scaled_ones() {
+        // Two outputs on three rows; the scaled pair is the unscaled one divided by 10, so
+        // the relative error is unchanged by the scaling and the absolute one is not.
+        let truth = array![[0.5, 0.1], [0.6, 0.2], [0.7, 0.3]];
+        let predicted = array![[0.5, 0.2], [0.8, 0.2], [0.7, 0.0]];
+        let (truth_s, predicted_s) = (&truth / 10.0, &predicted / 10.0);
+        let e = row_errors(
+            (&truth_s, &truth),
+            Some((&predicted_s, &predicted)),
+            &[0, 1],
+        )
+        .unwrap();
+        let absolute = e.mean_absolute.unwrap();
+        assert!((absolute[0] - 0.1).abs() < 1e-12, "{absolute:?}");
+        assert!((absolute[1] - 0.05).abs() < 1e-12, "{absolute:?}");
+        // eq 6.6 on rows 0 and 1 of output 1: ||(0.01, 0)|| / ||(0.01, 0.02)||.
+        let relative = e.per_output.unwrap();
+        assert!(
+            (relative[1] - (1.0f64 / 5.0).sqrt()).abs() < 1e-9,
+            "{relative:?}"
+        );
+        let none = row_errors((&truth_s, &truth), None, &[0]).unwrap();
+        assert_eq!((none.rows, none.mean_absolute), (1, None));
     }
 }

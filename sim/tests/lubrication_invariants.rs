@@ -205,3 +205,66 @@ fn the_squeeze_meets_the_two_sphere_reynolds_limit_for_every_size_ratio() {
         );
     }
 }
+
+/// Exchange of i and j (docs/physics.md section 9): the same pair seen from j, with radii
+/// swapped, `n -> -n`, `dv -> -dv` and the spins swapped, puts on j minus the force on i and
+/// the same torques on each sphere, for every ratio from 1/7 to 7 and every gap. Fails on a
+/// coefficient whose swapped form (`Y11B` against `Y21B`, `Y11C` against `Y22C`, `Y12C`)
+/// does not match, to a relative 1e-12.
+#[test]
+fn exchanging_i_and_j_gives_opposite_forces_and_the_same_torques() {
+    let mut rng = rand::rngs::StdRng::seed_from_u64(29);
+    for beta in BETAS {
+        let (a_i, a_j) = (1.0, beta);
+        let c = LubricationCoefficients::new(a_i, a_j, 1.0, XI_MIN, XI_MAX);
+        let swapped = LubricationCoefficients::new(a_j, a_i, 1.0, XI_MIN, XI_MAX);
+        for xi in gaps() {
+            let n = random_unit(&mut rng);
+            let dv = random_vec(&mut rng);
+            let (w_i, w_j) = (random_vec(&mut rng), random_vec(&mut rng));
+            let l = c.load(xi, &n, &dv, &w_i, &w_j);
+            let m = swapped.load(xi, &(-n), &(-dv), &w_j, &w_i);
+            let scale = l.force_i.norm() + l.torque_i.norm() + l.torque_j.norm();
+            let mismatch = (m.force_i + l.force_i).norm()
+                + (m.torque_i - l.torque_j).norm()
+                + (m.torque_j - l.torque_i).norm();
+            assert!(
+                mismatch <= 1e-12 * scale,
+                "beta {beta}, xi {xi}: mismatch {mismatch} of {scale}"
+            );
+        }
+    }
+}
+
+/// The squeeze resistance is positive at every gap inside the cut-off, for every ratio,
+/// and grows as the gap closes (the `1/xi` term dominates the log term).
+#[test]
+fn the_squeeze_resistance_is_positive_and_grows_as_the_gap_closes() {
+    for beta in BETAS {
+        let c = LubricationCoefficients::new(1.0, beta, 1.0, XI_MIN, XI_MAX);
+        let values: Vec<f64> = gaps().into_iter().map(|xi| c.x11a(xi)).collect();
+        assert!(values.iter().all(|&x| x > 0.0), "beta {beta}: {values:?}");
+        assert!(
+            values.windows(2).all(|w| w[0] >= w[1]),
+            "beta {beta}: {values:?}"
+        );
+    }
+}
+
+/// Jeffrey & Onishi's leading squeeze term, evaluated here from the formula
+/// `X11A ~ 6 pi eta a_i 2 beta^2 / (1+beta)^3 / xi` (the code's normalisation: the force on
+/// i is `X11A` times the approach speed, units eta a), against the code's `1/xi` part.
+#[test]
+fn the_singular_squeeze_term_is_jeffrey_and_onishi_leading_term() {
+    for beta in BETAS {
+        let (eta, a_i) = (1.7, 0.8);
+        let c = LubricationCoefficients::new(a_i, a_i * beta, eta, XI_MIN, XI_MAX);
+        let expected =
+            6.0 * std::f64::consts::PI * eta * a_i * 2.0 * beta * beta / (1.0 + beta).powi(3);
+        assert!(
+            (c.xa_singular / expected - 1.0).abs() < 1e-12,
+            "beta {beta}: {} against {expected}",
+            c.xa_singular
+        );
+    }
+}

@@ -753,6 +753,26 @@ mod tests {
     }
 
     #[test]
+    fn a_box_of_fewer_than_the_minimum_grain_diameters_is_refused_naming_the_axis() {
+        // Grains of radius 7 in an 8 x 12 x 8 box: 0.57 diameters along x.
+        let message = scene("radii = [1.0, 1.4, 5.0, 7.0]")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("box.l_x") && message.contains("diameters of the largest radius"),
+            "{message}"
+        );
+        // Radius 1.4 in the same box: 2.86 diameters, at or above the minimum.
+        assert!(scene("radii = [1.0, 1.4]").is_ok());
+        // Radius 1.7: 8 / 3.4 = 2.35 diameters along x, below 2.5.
+        let below = scene("radii = [1.0, 1.7]").unwrap_err().to_string();
+        assert!(
+            below.contains("box.l_x") && below.contains("2.35"),
+            "{below}"
+        );
+    }
+
+    #[test]
     fn fractions_must_sum_to_one() {
         let message = scene("fractions = [0.3, 0.3]").unwrap_err().to_string();
         assert!(

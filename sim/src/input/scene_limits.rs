@@ -33,6 +33,14 @@ pub const PHI_MAX: f64 = 0.64;
 /// time step is the large ones' divided by the ratio to the power 3/2.
 pub const RADII_RATIO_MAX: f64 = 100.0;
 
+/// Fewest largest diameters `2 a_max` along each box axis. A pair interacts out to
+/// `(a_i + a_j)(1 + xi_max / 2)`, about 1.03 largest diameters for a grain-grain pair
+/// (xi_max 0.05), plus the Verlet skin; the minimum-image convention needs that range
+/// below half the box, so about 2.1 diameters at the least. 2.5 leaves room for the skin;
+/// 4 (the brief's suggestion) would refuse the 8-wide boxes of radius 1.4 (2.9 diameters)
+/// that the repository's scenes and tests use, which are valid.
+pub const BOX_DIAMETERS_MIN: f64 = 2.5;
+
 /// Most species (radii): the force field holds constants for every pair of species.
 pub const SPECIES_MAX: usize = 64;
 
@@ -201,6 +209,7 @@ pub fn check(file: &SceneFile) -> Result<(), SimError> {
              and the cell list's size unworkable",
         ));
     }
+    check_box_holds_the_largest_pair(file, a_max)?;
     let r = &file.run;
     let bins = file.box_.l_y / r.bin_width;
     if bins > BINS_MAX {
@@ -229,6 +238,29 @@ pub fn check(file: &SceneFile) -> Result<(), SimError> {
                 show(SAMPLES_PER_WINDOW_MAX)
             ),
         ));
+    }
+    Ok(())
+}
+
+/// Fails when an axis of the box is shorter than [`BOX_DIAMETERS_MIN`] diameters of the
+/// largest species `a_max`, naming the axis' field.
+fn check_box_holds_the_largest_pair(file: &SceneFile, a_max: f64) -> Result<(), SimError> {
+    let b = &file.box_;
+    for (field, l) in [("box.l_x", b.l_x), ("box.l_y", b.l_y), ("box.l_z", b.l_z)] {
+        let diameters = l / (2.0 * a_max);
+        if diameters < BOX_DIAMETERS_MIN {
+            return Err(SimError::field(
+                field,
+                format!(
+                    "{} holds {:.2} diameters of the largest radius {}, fewer than \
+                     {BOX_DIAMETERS_MIN}: the largest pair would interact with its own \
+                     periodic image",
+                    show(l),
+                    diameters,
+                    show(a_max)
+                ),
+            ));
+        }
     }
     Ok(())
 }

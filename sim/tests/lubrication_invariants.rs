@@ -250,21 +250,3 @@ fn the_squeeze_resistance_is_positive_and_grows_as_the_gap_closes() {
         );
     }
 }
-
-/// Jeffrey & Onishi's leading squeeze term, evaluated here from the formula
-/// `X11A ~ 6 pi eta a_i 2 beta^2 / (1+beta)^3 / xi` (the code's normalisation: the force on
-/// i is `X11A` times the approach speed, units eta a), against the code's `1/xi` part.
-#[test]
-fn the_singular_squeeze_term_is_jeffrey_and_onishi_leading_term() {
-    for beta in BETAS {
-        let (eta, a_i) = (1.7, 0.8);
-        let c = LubricationCoefficients::new(a_i, a_i * beta, eta, XI_MIN, XI_MAX);
-        let expected =
-            6.0 * std::f64::consts::PI * eta * a_i * 2.0 * beta * beta / (1.0 + beta).powi(3);
-        assert!(
-            (c.xa_singular / expected - 1.0).abs() < 1e-12,
-            "beta {beta}: {} against {expected}",
-            c.xa_singular
-        );
-    }
-}

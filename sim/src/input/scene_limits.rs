@@ -33,12 +33,13 @@ pub const PHI_MAX: f64 = 0.64;
 /// time step is the large ones' divided by the ratio to the power 3/2.
 pub const RADII_RATIO_MAX: f64 = 100.0;
 
-/// Fewest largest diameters `2 a_max` along each box axis. A pair interacts out to
-/// `(a_i + a_j)(1 + xi_max / 2)`, about 1.03 largest diameters for a grain-grain pair
-/// (xi_max 0.05), plus the Verlet skin; the minimum-image convention needs that range
-/// below half the box, so about 2.1 diameters at the least. 2.5 leaves room for the skin;
-/// 4 (the brief's suggestion) would refuse the 8-wide boxes of radius 1.4 (2.9 diameters)
-/// that the repository's scenes and tests use, which are valid.
+/// Fewest largest diameters `2 a_max` along each box axis, for mixtures of very different
+/// sizes (thesis chapter 5: grains 5-7 times the colloids). The minimum-image limit, twice
+/// the largest pair's reach plus the skin, is checked where the scene is built
+/// (`Scene::from_file`) and allows about 2.1 diameters; a box that narrow holds two grains
+/// across, whose structure is then set by their own periodic images. 2.5 is the most the
+/// shipped 8-wide boxes of radius 1.4 (2.9 diameters) allow; thesis-sized mixtures need
+/// several times more for their statistics, which this bound does not judge.
 pub const BOX_DIAMETERS_MIN: f64 = 2.5;
 
 /// Most species (radii): the force field holds constants for every pair of species.
@@ -253,8 +254,8 @@ fn check_box_holds_the_largest_pair(file: &SceneFile, a_max: f64) -> Result<(), 
                 field,
                 format!(
                     "{} holds {:.2} diameters of the largest radius {}, fewer than \
-                     {BOX_DIAMETERS_MIN}: the largest pair would interact with its own \
-                     periodic image",
+                     {BOX_DIAMETERS_MIN}: the largest spheres would be ordered by their own \
+                     periodic images",
                     show(l),
                     diameters,
                     show(a_max)

@@ -7,7 +7,7 @@ use crate::theta_balance::ThetaBalance;
 
 /// Relative half-width of the box over which a learned closure is averaged, for J and its
 /// second feature (Delta_v or Theta).
-pub const SMOOTHING: f64 = 0.1;
+pub const SMOOTHING: f64 = 0.3;
 
 /// The local state's second feature, beside J and phi, that a closure reads.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -416,6 +416,7 @@ pub fn run(
         phi_actual: scene.phi_actual,
         stokes: scene.stokes,
         thermal: scene.thermal,
+        composition: scene.composition,
         dt: sim.timestep.dt,
         dt_limit: sim.timestep.limit.to_string(),
         timestep: sim.timestep,

@@ -231,6 +231,13 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
             th.peclet.map_or("none (no flow: run lengths count tau_B)".into(), |pe| format!("{pe:.4e}"))
         );
     }
+    if let Some(c) = &scene.composition {
+        let pe = |p: Option<f64>| p.map_or("none".into(), |pe| format!("{pe:.4e}"));
+        println!(
+            "mixture: alpha = {} (placed: {:.4}), a_c = {}, a_g = {}, a_cg = (1 - alpha) a_c + alpha a_g = {:.4}, Pe_c = {}, Pe_cg = {}",
+            c.alpha, c.alpha_actual, c.a_c, c.a_g, c.a_cg, pe(c.peclet_c), pe(c.peclet_cg)
+        );
+    }
     println!(
         "{} integrator: dt = {:.3e} set by {} (critical steps: contact {:.3e}, drag {:.3e}, lubrication {:.3e}; accuracy cap xi_min/gdot_max {:.3e})",
         t.integrator, t.dt, t.limit, t.contact_critical, t.drag_critical, t.lubrication_critical, t.accuracy_limit

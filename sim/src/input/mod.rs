@@ -1,6 +1,7 @@
 //! What a run starts from: scene files and their validation, grids of scenes and their
 //! replicas, the streaming flow profile u_inf(y), and the initial random packing.
 
+pub mod composition;
 pub mod flow_profile;
 pub mod grid;
 pub mod initial_state;

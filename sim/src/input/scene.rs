@@ -2,6 +2,7 @@
 //! field by field, with the derived quantities a run needs (N, Stokes number, bins).
 use crate::error::SimError;
 use crate::forces::repulsion::Repulsion;
+use crate::input::composition::{self, Composition, MixtureSection};
 use crate::input::flow_profile::FlowProfile;
 use crate::input::integrator::Integrator;
 use crate::input::memory_estimate;
@@ -53,10 +54,13 @@ pub struct BoxSection {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParticleSection {
-    /// Global solid volume fraction.
+    /// Global solid volume fraction; absent (0 until validation) only when
+    /// `mixture.initial` sets it.
+    #[serde(default)]
     pub phi: f64,
-    /// Radii of the species (units a).
-    #[serde(default = "default_radii")]
+    /// Radii of the species (units a); 1 and 1.4 when neither these nor a `mixture` are
+    /// given (an empty list until validation fills it in).
+    #[serde(default)]
     pub radii: Vec<f64>,
     /// Number fractions of the species (must sum to 1); equal numbers of each radius when
     /// absent (an empty list until validation fills it in).
@@ -69,6 +73,10 @@ pub struct ParticleSection {
     /// profile's largest shear rate, so that scenes with different profiles share one St.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stokes: Option<f64>,
+    /// A colloid-grain mixture by its composition, expanded into `radii`, `fractions` and
+    /// (at fixed liquid volume) `phi` (see [`composition`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mixture: Option<MixtureSection>,
 }
 
 /// Suspending fluid and its streaming velocity: either an inhomogeneous `profile` or a
@@ -206,9 +214,6 @@ fn default_name() -> String {
 fn default_seed() -> u64 {
     1
 }
-fn default_radii() -> Vec<f64> {
-    vec![1.0, 1.4]
-}
 fn one() -> f64 {
     1.0
 }
@@ -294,6 +299,8 @@ pub struct Scene {
     pub warnings: Vec<String>,
     /// Time scales of the Brownian forces, when `fluid.kT > 0`.
     pub thermal: Option<ThermalScales>,
+    /// The realised composition and Peclet numbers of a `particles.mixture` scene.
+    pub composition: Option<Composition>,
 }
 
 /// Largest accepted `|sum of number fractions - 1|` (room for decimal round-off such as
@@ -404,6 +411,7 @@ impl Scene {
     /// radii given.
     pub fn from_file(mut file: SceneFile, strict: bool) -> Result<Scene, SimError> {
         scene_name::check(&file.name).map_err(|m| SimError::field("name", m))?;
+        composition::expand(&mut file.particles)?;
         if file.particles.fractions.is_empty() {
             let n = file.particles.radii.len();
             file.particles.fractions = vec![1.0 / n as f64; n];
@@ -413,6 +421,15 @@ impl Scene {
         positive("box.l_y", b.l_y)?;
         positive("box.l_z", b.l_z)?;
         let p = &file.particles;
+        if p.phi == 0.0 {
+            return Err(SimError::field(
+                "particles.phi",
+                format!(
+                    "is missing: give the solid volume fraction (0, {PHI_MAX}], or a \
+                     particles.mixture with an initial suspension that sets it"
+                ),
+            ));
+        }
         if !(p.phi > 0.0 && p.phi <= PHI_MAX) {
             return Err(SimError::field(
                 "particles.phi",
@@ -582,13 +599,25 @@ impl Scene {
         let n_total = (p.phi * volume / mean_particle_volume).round() as usize;
         let memory_bytes =
             memory_estimate::run_bytes(n_total, [b.l_x, b.l_y, b.l_z], interaction_range + r.skin);
-        let mut counts: Vec<usize> = fractions
-            .iter()
-            .map(|x| (x * n_total as f64).round() as usize)
-            .collect();
-        let assigned: usize = counts.iter().sum();
-        let last = counts.len() - 1;
-        counts[last] = (counts[last] + n_total).saturating_sub(assigned);
+        let counts: Vec<usize> = if p.mixture.is_some() {
+            // Each species rounded on its own, so that its volume is the nearest its
+            // particles allow: a grain of radius 7 holds the volume of 343 colloids, and
+            // the rule below would put the count's round-off on it.
+            let n_exact = p.phi * volume / mean_particle_volume;
+            fractions
+                .iter()
+                .map(|x| (x * n_exact).round() as usize)
+                .collect()
+        } else {
+            let mut counts: Vec<usize> = fractions
+                .iter()
+                .map(|x| (x * n_total as f64).round() as usize)
+                .collect();
+            let assigned: usize = counts.iter().sum();
+            let last = counts.len() - 1;
+            counts[last] = (counts[last] + n_total).saturating_sub(assigned);
+            counts
+        };
         let n: usize = counts.iter().sum();
         if n < 2 {
             return Err(SimError::field(
@@ -649,9 +678,15 @@ impl Scene {
         if let Some(w) = thermal.as_ref().and_then(ThermalScales::warning) {
             warnings.push(w);
         }
+        let composition = file
+            .particles
+            .mixture
+            .as_ref()
+            .map(|m| Composition::of(m, &counts, file.fluid.eta, gdot_max, file.fluid.kt));
         let timestep = TimeStep::for_file(&file, rho, gdot_max);
         let mut scene = Scene {
             thermal,
+            composition,
             timestep,
             box_len: [b.l_x, b.l_y, b.l_z],
             counts,

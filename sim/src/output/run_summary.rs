@@ -1,5 +1,6 @@
 //! What a finished run hands over: its profile, its snapshot sums, and the summary
 //! written to `summary.json` (docs/physics.md section 7).
+use crate::input::composition::Composition;
 use crate::input::thermal_scales::ThermalScales;
 use crate::integrate::stage_timers::StageTimers;
 use crate::integrate::timestep::TimeStep;
@@ -25,6 +26,10 @@ pub struct RunSummary {
     /// Brownian scales (kT, tau_B, tau_I, Peclet number) of a scene with `kT > 0`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub thermal: Option<ThermalScales>,
+    /// Composition and Peclet numbers `Pe_c`, `Pe_cg` of a colloid-grain mixture;
+    /// absent in the summaries of other scenes and of runs made before it was added.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub composition: Option<Composition>,
     pub dt: f64,
     pub dt_limit: String,
     pub timestep: TimeStep,
@@ -113,6 +118,15 @@ mod tests {
                 inertia_diffusion: 0.005,
                 peclet: None,
             }),
+            composition: Some(Composition {
+                alpha: 0.7,
+                alpha_actual: 0.69,
+                a_c: 1.0,
+                a_g: 5.0,
+                a_cg: 3.8,
+                peclet_c: Some(1.0),
+                peclet_cg: Some(54.872),
+            }),
             dt: 1e-3,
             dt_limit: "contact".into(),
             timestep: TimeStep {
@@ -181,12 +195,15 @@ mod tests {
         // Without the optional parts, and a run that never reached steady state.
         let written = RunSummary {
             thermal: None,
+            composition: None,
             shear: None,
             strain_to_steady: f64::NAN,
             ..summary()
         };
         let text = serde_json::to_string(&written).unwrap();
-        assert!(!text.contains("\"shear\"") && !text.contains("\"thermal\""));
+        for part in ["shear", "thermal", "composition"] {
+            assert!(!text.contains(&format!("\"{part}\"")), "{text}");
+        }
         let read: RunSummary = serde_json::from_str(&text).unwrap();
         assert!(read.strain_to_steady.is_nan());
         assert_eq!(

@@ -1,0 +1,146 @@
+//! Colloid-grain mixtures given by their composition (`[particles.mixture]`): a grid over
+//! alpha at fixed liquid volume and at fixed phi, the scenes written back out and read
+//! again, and the refusals naming the field.
+use sim::input::grid::Grid;
+use sim::input::scene::Scene;
+
+/// A sheared Brownian box wide enough for grains of radius 7 (three neighbour cells of
+/// 14.5 a along y), Pe_c = 1.
+const BASE: &str = r#"
+[scene]
+box = { l_x = 44.0, l_y = 44.0, l_z = 44.0 }
+fluid = { shear_rate = 0.01, peclet = 1.0 }
+[scene.particles]
+rho = 0.1
+"#;
+
+#[test]
+fn adding_grains_at_fixed_liquid_volume_follows_the_thesis_protocol() {
+    let text = format!(
+        "name = \"add\"\n{BASE}\n\
+         [scene.particles.mixture]\ninitial = {{ species = \"colloids\", phi = 0.55 }}\n\
+         [vary]\n\"particles.mixture.alpha\" = [0.0, 0.1, 0.3]\n"
+    );
+    let grid = Grid::from_toml(&text, false).unwrap();
+    // Thesis section 5.1: 0.55, 0.576, 0.636 (three digits as printed).
+    for (run, (alpha, phi)) in grid
+        .runs
+        .iter()
+        .zip([(0.0, 0.55), (0.1, 0.576), (0.3, 0.636)])
+    {
+        let s = &run.scene;
+        assert!(
+            (s.file.particles.phi - phi).abs() < 6e-4,
+            "{alpha}: {}",
+            s.file.particles.phi
+        );
+        let c = s.composition.unwrap();
+        assert_eq!(c.alpha, alpha);
+        // The counts are integers, each species rounded on its own: its volume is off by
+        // at most half a particle's, so alpha by half a grain of each radius over the
+        // solid volume (0.02 at alpha 0.1, with 7 grains in this box) and phi by half a
+        // particle of each radius over the box.
+        let box_volume = 44.0f64.powi(3);
+        let volume = |r: f64| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+        let alpha_bound = 0.5 * (volume(5.0) + volume(7.0)) / (phi * box_volume);
+        let phi_bound = [1.0, 1.4, 5.0, 7.0].map(volume).iter().sum::<f64>() / (2.0 * box_volume);
+        assert!((c.alpha_actual - alpha).abs() <= alpha_bound, "{c:?}");
+        assert!((s.phi_actual - s.file.particles.phi).abs() <= phi_bound);
+        // Pe_cg = Pe_c (a_cg / a_c)^3 with a_cg = (1 - alpha) + 5 alpha.
+        let a_cg = 1.0 + 4.0 * alpha;
+        assert!((c.peclet_c.unwrap() - 1.0).abs() < 1e-12);
+        assert!((c.peclet_cg.unwrap() - a_cg.powi(3)).abs() < 1e-9 * a_cg.powi(3));
+        let species = if alpha == 0.0 { 2 } else { 4 };
+        assert_eq!(s.counts.len(), species, "{:?}", s.file.particles.radii);
+    }
+}
+
+#[test]
+fn a_mixture_scene_written_out_reads_back_the_same() {
+    // `generate` writes each scene's validated file into its work folder and `simulate`
+    // reads it there: the expansion must find its own output consistent.
+    let text = format!(
+        "name = \"add\"\n{BASE}\n\
+         [scene.particles.mixture]\nalpha = 0.7\ninitial = {{ species = \"grains\", phi = 0.55 }}\n"
+    );
+    let first = &Grid::from_toml(&text, false).unwrap().runs[0].scene;
+    let written = toml::to_string(&first.file).unwrap();
+    let again = Scene::from_toml(&written, false).unwrap();
+    assert_eq!(again.file.particles.radii, first.file.particles.radii);
+    assert_eq!(
+        again.file.particles.fractions,
+        first.file.particles.fractions
+    );
+    assert_eq!(again.file.particles.phi, first.file.particles.phi);
+    assert_eq!(again.counts, first.counts);
+    assert_eq!(again.composition, first.composition);
+    assert!((first.file.particles.phi - 0.636).abs() < 6e-4);
+}
+
+#[test]
+fn at_fixed_phi_alpha_changes_only_the_species() {
+    let text = format!(
+        "name = \"fixed\"\n{BASE}\n\
+         [scene.particles.mixture]\nalpha = 0.5\n\
+         [vary]\n\"particles.phi\" = [0.565]\n\"particles.mixture.alpha\" = [0.2, 0.5]\n"
+    );
+    let grid = Grid::from_toml(&text, false).unwrap();
+    let shares: Vec<f64> = grid
+        .runs
+        .iter()
+        .map(|r| {
+            assert_eq!(r.scene.file.particles.phi, 0.565);
+            r.scene.composition.unwrap().alpha_actual
+        })
+        .collect();
+    assert!(
+        (shares[0] - 0.2).abs() < 0.02 && (shares[1] - 0.5).abs() < 0.02,
+        "{shares:?}"
+    );
+}
+
+#[test]
+fn contradictions_and_gaps_are_refused_naming_the_field() {
+    let scene = |particles: &str| {
+        Scene::from_toml(
+            &format!(
+                "[box]\nl_x = 44.0\nl_y = 44.0\nl_z = 44.0\n[fluid]\nshear_rate = 0.01\n\
+                 [particles]\n{particles}\n"
+            ),
+            false,
+        )
+        .map(|_| ())
+        .unwrap_err()
+        .to_string()
+    };
+    let cases = [
+        ("", "particles.phi"),
+        (
+            "phi = 0.6\nmixture = { alpha = 0.7, initial = { species = \"grains\", phi = 0.55 } }",
+            "particles.phi",
+        ),
+        (
+            "phi = 0.5\nradii = [1.0, 2.0]\nmixture = { alpha = 0.3 }",
+            "particles.radii",
+        ),
+        (
+            "phi = 0.5\nmixture = { alpha = 1.2 }",
+            "particles.mixture.alpha",
+        ),
+        (
+            "phi = 0.5\nmixture = { alpha = 0.3, grain_radii = [1.2] }",
+            "particles.mixture.grain_radii",
+        ),
+        (
+            "mixture = { alpha = 0.6, initial = { species = \"colloids\", phi = 0.55 } }",
+            "particles.mixture.alpha",
+        ),
+    ];
+    for (particles, field) in cases {
+        let message = scene(particles);
+        assert!(
+            message.contains(&format!("`{field}`")),
+            "{particles}: {message}"
+        );
+    }
+}

@@ -56,6 +56,28 @@ fn adding_grains_at_fixed_liquid_volume_follows_the_thesis_protocol() {
 }
 
 #[test]
+fn the_peclet_number_of_a_mixture_is_the_colloids_even_without_colloids() {
+    // alpha = 1 places only grains (radii 5 and 7), yet fluid.peclet is Pe_c: kT follows
+    // from the colloid radius 1, kT = 6 pi eta a_c^3 gdot / Pe_c, not from the smallest
+    // radius placed (which would give Pe_g = 125 Pe_c = 1).
+    let text = format!(
+        "name = \"grains\"\n{BASE}\n\
+         [scene.particles.mixture]\nalpha = 1.0\ninitial = {{ species = \"grains\", phi = 0.55 }}\n"
+    );
+    let s = &Grid::from_toml(&text, false).unwrap().runs[0].scene;
+    assert_eq!(s.file.particles.radii, vec![5.0, 7.0]);
+    let kt = 6.0 * std::f64::consts::PI * 0.01;
+    assert!(
+        (s.file.fluid.kt - kt).abs() < 1e-12 * kt,
+        "{}",
+        s.file.fluid.kt
+    );
+    let c = s.composition.unwrap();
+    assert!((c.peclet_c.unwrap() - 1.0).abs() < 1e-12);
+    assert!((c.peclet_cg.unwrap() - 125.0).abs() < 1e-9);
+}
+
+#[test]
 fn a_mixture_scene_written_out_reads_back_the_same() {
     // `generate` writes each scene's validated file into its work folder and `simulate`
     // reads it there: the expansion must find its own output consistent.

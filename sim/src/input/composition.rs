@@ -101,6 +101,22 @@ impl MixtureSection {
         initial.phi / (initial.phi + (1.0 - initial.phi) * share)
     }
 
+    /// The colloid radius `a_c`: the smallest colloid radius (units a).
+    pub fn colloid_radius(&self) -> f64 {
+        self.colloid_radii
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The grain radius `a_g`: the smallest grain radius (thesis: `a_g / a_c = 5`).
+    pub fn grain_radius(&self) -> f64 {
+        self.grain_radii
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// The radii and number fractions of the mixture: each radius `r` of a species of
     /// volume share `v` and `n` radii holds the volume `v / n`, so its number is
     /// proportional to `v / (n r^3)`.
@@ -146,12 +162,7 @@ impl MixtureSection {
             }
         }
         let largest_colloid = self.colloid_radii.iter().cloned().fold(0.0, f64::max);
-        let smallest_grain = self
-            .grain_radii
-            .iter()
-            .cloned()
-            .fold(f64::INFINITY, f64::min);
-        if smallest_grain <= largest_colloid {
+        if self.grain_radius() <= largest_colloid {
             return Err(field(
                 "grain_radii",
                 format!(
@@ -248,9 +259,9 @@ pub struct Composition {
     pub alpha: f64,
     /// Grain share of the solid volume of the particles placed.
     pub alpha_actual: f64,
-    /// Colloid radius `a_c`: the smallest colloid radius (units a).
+    /// Colloid radius `a_c` ([`MixtureSection::colloid_radius`], units a).
     pub a_c: f64,
-    /// Grain radius `a_g`: the smallest grain radius (thesis: `a_g / a_c = 5`).
+    /// Grain radius `a_g` ([`MixtureSection::grain_radius`]).
     pub a_g: f64,
     /// Mixture radius `a_cg = (1 - alpha) a_c + alpha a_g` (thesis section 5.2).
     pub a_cg: f64,
@@ -265,16 +276,7 @@ impl Composition {
     /// order of [`MixtureSection::species`]), in fluid of viscosity `eta` sheared at
     /// `gdot` (0 = no flow) at thermal energy `kt` (0 = non-Brownian).
     pub fn of(mixture: &MixtureSection, counts: &[usize], eta: f64, gdot: f64, kt: f64) -> Self {
-        let a_c = mixture
-            .colloid_radii
-            .iter()
-            .cloned()
-            .fold(f64::INFINITY, f64::min);
-        let a_g = mixture
-            .grain_radii
-            .iter()
-            .cloned()
-            .fold(f64::INFINITY, f64::min);
+        let (a_c, a_g) = (mixture.colloid_radius(), mixture.grain_radius());
         let (radii, _) = mixture.species();
         let volume = |grains: bool| -> f64 {
             radii

@@ -468,7 +468,14 @@ impl Scene {
         }
         positive("fluid.eta", file.fluid.eta)?;
         let a_min = p.radii.iter().cloned().fold(f64::INFINITY, f64::min);
-        thermal_scales::complete_from_peclet(&mut file.fluid, a_min)?;
+        // The thermal scales' radius: the smallest, or a mixture's colloid radius even
+        // when no colloids are placed (alpha = 1), so that `fluid.peclet` is Pe_c at every
+        // composition.
+        let a_thermal = p
+            .mixture
+            .as_ref()
+            .map_or(a_min, MixtureSection::colloid_radius);
+        thermal_scales::complete_from_peclet(&mut file.fluid, a_thermal)?;
         if !(file.fluid.kt.is_finite() && file.fluid.kt >= 0.0) {
             return Err(SimError::field(
                 "fluid.kT",
@@ -674,7 +681,7 @@ impl Scene {
             warnings.push(msg);
         }
         let thermal = (file.fluid.kt > 0.0)
-            .then(|| ThermalScales::new(file.fluid.kt, file.fluid.eta, rho, a_min, gdot_max));
+            .then(|| ThermalScales::new(file.fluid.kt, file.fluid.eta, rho, a_thermal, gdot_max));
         if let Some(w) = thermal.as_ref().and_then(ThermalScales::warning) {
             warnings.push(w);
         }

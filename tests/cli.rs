@@ -677,6 +677,54 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Issue 29: the flow curves of colloid-grain mixtures carry their composition and both
+/// Peclet numbers (grains only here, so that the runs are tiny).
+#[test]
+fn flow_curves_of_a_mixture_tabulate_its_composition_and_peclet_numbers() {
+    let dir = scratch("flow-curves-mixture");
+    let (runs, out) = (dir.join("runs"), dir.join("report"));
+    let grid = "tests/grids/tiny_grain_mixture.toml";
+    let bins = dir.join("bins.csv");
+    assert_ok(&suspflow(&[
+        "generate",
+        grid,
+        "--out",
+        bins.to_str().unwrap(),
+        "--work",
+        runs.to_str().unwrap(),
+        "--jobs",
+        "2",
+        "--threads",
+        "1",
+    ]));
+    assert_ok(&suspflow(&[
+        "flow-curves",
+        grid,
+        "--runs",
+        runs.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    let (header, rows) = read_csv(&out.join("flow_curves.csv"));
+    assert_eq!(rows.len(), 4);
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let value = |row: &Vec<String>, name: &str| -> f64 { row[column(name)].parse().unwrap() };
+    for row in &rows {
+        assert_eq!(value(row, "alpha"), 1.0);
+        assert_eq!(value(row, "alpha_actual"), 1.0);
+        let pe_c = value(row, "peclet_c");
+        assert_eq!(pe_c, value(row, "peclet"));
+        // a_cg = a_g = 5 at alpha = 1: Pe_cg = 125 Pe_c; kT from Pe_c with a_c = 1.
+        assert!(
+            (value(row, "peclet_cg") / pe_c - 125.0).abs() < 1e-9,
+            "{row:?}"
+        );
+        let kt = value(row, "kT");
+        assert!((6.0 * std::f64::consts::PI * 0.01 / kt / pe_c - 1.0).abs() < 1e-9);
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn coverage_draws_both_planes_and_tabulates_the_ranges_of_the_data() {
     let dir = scratch("coverage");

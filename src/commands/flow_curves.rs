@@ -332,7 +332,7 @@ fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
     for (name, _, _) in PARTS {
         let _ = write!(out, ",{name},{name}_se");
     }
-    out.push('\n');
+    out.push_str(",alpha,alpha_actual,peclet_c,peclet_cg\n");
     for FlowPoint {
         id,
         summary,
@@ -363,7 +363,18 @@ fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
         for (m, se) in p.parts {
             let _ = write!(out, ",{m},{se}");
         }
-        out.push('\n');
+        // A colloid-grain mixture's composition and Peclet numbers (docs/physics.md
+        // section 13); empty fields for other scenes.
+        let show = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
+        let c = summary.composition;
+        let _ = writeln!(
+            out,
+            ",{},{},{},{}",
+            show(c.map(|c| c.alpha)),
+            show(c.map(|c| c.alpha_actual)),
+            show(c.and_then(|c| c.peclet_c)),
+            show(c.and_then(|c| c.peclet_cg))
+        );
     }
     Ok(write_atomic(path, out.as_bytes())?)
 }

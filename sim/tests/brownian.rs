@@ -153,6 +153,54 @@ fn dense_suspension_is_at_the_bath_temperature() {
     assert!((got.rot - 1.0).abs() < 0.02, "rotation {}", got.rot);
 }
 
+/// A colloid-grain mixture at rest (radii 1 and 5, the size ratio of thesis chapter 5;
+/// alpha = 0.8, phi = 0.35 in a 36^3 box: about 780 colloids and 25 grains; Table 4.1 state, all
+/// forces on) at the automatic time step: each species at the bath temperature, in
+/// translation and rotation. A grain's noise comes mostly from the colloids in lubrication
+/// range of it (pairs of size ratio 5), so an error in those pairs' fluctuation-dissipation
+/// balance shows on the grains first. dt = 3.4e-3; 30000 steps (100 time units) after
+/// 1000, sampled every 10 steps. The grains' per-sample estimate over 75 degrees of freedom
+/// spreads by sqrt(2/75) = 16 %, correlated over half their velocity relaxation time (free
+/// drag: m / 6 pi eta a = 5.6 time units; lubrication only shortens it): at least 18
+/// independent samples, a standard error of at most 3.8 %, tolerance 12 % (3 standard
+/// errors). The colloids' (2340 degrees of freedom, relaxation 0.22) has a standard error
+/// near 0.15 %; their tolerance, 2 %, is the step's as for the dense suspension above.
+#[test]
+fn a_colloid_grain_mixture_is_at_the_bath_temperature_in_each_species() {
+    let text = format!(
+        "seed = 3\n[box]\nl_x = 36.0\nl_y = 36.0\nl_z = 36.0\n[particles]\nphi = 0.35\n\
+         rho = 0.1\nmixture = {{ alpha = 0.8, colloid_radii = [1.0], grain_radii = [5.0] }}\n\
+         {TABLE_4_1}"
+    );
+    let sc = Scene::from_toml(&text, false).expect("valid test scene");
+    let mut s = Simulation::new(&sc, initial_particles(&sc).unwrap()).unwrap();
+    s.advance(1000).expect("stable warm-up");
+    let (mut colloids, mut grains, mut samples) = ([0.0; 2], [0.0; 2], 0.0);
+    for k in 1..=30000 {
+        s.step().expect("stable run");
+        if k % 10 == 0 {
+            let c = s.particles.kinetic_temperatures_of(0.017, |a| a < 2.0);
+            let g = s.particles.kinetic_temperatures_of(0.017, |a| a > 2.0);
+            for (sum, t) in [(&mut colloids, c), (&mut grains, g)] {
+                sum[0] += t.0;
+                sum[1] += t.1;
+            }
+            samples += 1.0;
+        }
+    }
+    let (colloids, grains) = (colloids.map(|t| t / samples), grains.map(|t| t / samples));
+    println!(
+        "dt {:e} ({}), counts {:?}: colloids T/kT {colloids:.4?}, grains {grains:.4?}",
+        s.timestep.dt, s.timestep.limit, sc.counts
+    );
+    for t in colloids {
+        assert!((t - 1.0).abs() < 0.02, "colloids {colloids:?}");
+    }
+    for t in grains {
+        assert!((t - 1.0).abs() < 0.12, "grains {grains:?}");
+    }
+}
+
 /// The potential of mean force of two spheres (paper Fig. 2a,b; thesis Fig. 4.1) in a
 /// small periodic cube, all forces on, no flow, at the automatic time step: `-ln g(r)`
 /// in shells from contact to past the lubrication cut-off, for radii 1 : 1 and 1 : 1.4.

@@ -485,7 +485,7 @@ fn report(
 /// The runs and their estimated cost, without running.
 fn print_check(scenes: &[&GridRun]) {
     println!(
-        "{:<14} {:>10} {:>6} {:>6} {:>5} {:>7} {:>7} {:>9} {:>12}  profile",
+        "{:<14} {:>10} {:>6} {:>6} {:>6} {:>7} {:>7} {:>9} {:>12}  profile",
         "scene", "seed", "N", "L_y", "phi", "rho", "St", "dt", "part-steps"
     );
     let mut total = 0.0;
@@ -494,7 +494,7 @@ fn print_check(scenes: &[&GridRun]) {
         let c = cost(s);
         total += c;
         println!(
-            "{:<14} {:>10} {:>6} {:>6} {:>5} {:>7.3} {:>7.4} {:>9.3e} {:>12.3e}  {}",
+            "{:<14} {:>10} {:>6} {:>6} {:>6.4} {:>7.3} {:>7.4} {:>9.3e} {:>12.3e}  {}",
             gs.id,
             gs.seed(),
             s.n_particles(),

@@ -109,12 +109,19 @@ impl Particles {
     /// Translational and rotational kinetic temperatures over `kt`:
     /// `sum m v^2 / (3 N kT)` and `sum I omega^2 / (3 N kT)` (1 is equipartition).
     pub fn kinetic_temperatures(&self, kt: f64) -> (f64, f64) {
-        let dof = 3.0 * self.len() as f64 * kt;
-        let (mut trans, mut rot) = (0.0, 0.0);
-        for i in 0..self.len() {
+        self.kinetic_temperatures_of(kt, |_| true)
+    }
+
+    /// [`Self::kinetic_temperatures`] of the particles whose radius `selected` accepts
+    /// (one species of a mixture); `(NaN, NaN)` when it accepts none.
+    pub fn kinetic_temperatures_of(&self, kt: f64, selected: impl Fn(f64) -> bool) -> (f64, f64) {
+        let (mut trans, mut rot, mut n) = (0.0, 0.0, 0usize);
+        for i in (0..self.len()).filter(|&i| selected(self.radius[i])) {
             trans += self.mass[i] * self.vel[i].norm_squared();
             rot += self.inertia(i) * self.omega[i].norm_squared();
+            n += 1;
         }
+        let dof = 3.0 * n as f64 * kt;
         (trans / dof, rot / dof)
     }
 

@@ -1,9 +1,11 @@
 //! The neighbour search for colloid-grain mixtures (thesis chapter 5: radii 1 : 1.4 and
-//! 5 : 7 together): the cell list built for the largest pair's reach and the Verlet list
-//! built from it hold exactly the pairs a brute-force search over all pairs finds, each
-//! pair with its own reach, in a plain and in a sheared (Lees-Edwards) periodic box.
+//! 5 : 7 together): the Verlet list built from one cell list for the largest pair's reach,
+//! or from one cell list per size class, holds exactly the pairs a brute-force search over
+//! all pairs finds, each pair with its own reach, in a plain and in a sheared
+//! (Lees-Edwards) periodic box.
 use rand::{Rng, SeedableRng};
 use sim::neighbours::cell_list::CellList;
+use sim::neighbours::size_classes::{classify, CandidateCells};
 use sim::neighbours::verlet_list::VerletList;
 use sim::state::periodic_box::PeriodicBox;
 use sim::Vec3;
@@ -63,10 +65,6 @@ fn cell_and_verlet_lists_hold_every_pair_of_a_colloid_grain_mixture() {
         PeriodicBox::new(len),
         PeriodicBox::sheared(len, 0.01).with_offset(13.7),
     ] {
-        let cells = CellList::build(&positions, &pbox, largest + SKIN);
-        let list = VerletList::build(&positions, &pbox, &cells, SKIN, |i, j| {
-            reach(radii[i], radii[j])
-        });
         let expected = brute_force(&positions, &radii, &pbox);
         // The test means something only if every kind of pair occurs.
         let kinds = |a: f64, b: f64| {
@@ -76,6 +74,40 @@ fn cell_and_verlet_lists_hold_every_pair_of_a_colloid_grain_mixture() {
                 .count()
         };
         assert!(kinds(1.0, 1.4) > 0 && kinds(1.0, 7.0) > 0 && kinds(7.0, 7.0) > 0);
-        assert_eq!(listed(&list), expected, "sheared: {}", pbox.is_sheared());
+        // One cell list for the largest pair, and the two size classes (radii 1 and 1.4
+        // small, 5 and 7 large).
+        let single = CandidateCells::Single(CellList::build(&positions, &pbox, largest + SKIN));
+        let is_large: Vec<bool> = radii.iter().map(|&a| a > 2.0).collect();
+        let reaches = [
+            reach(1.4, 1.4) + SKIN,
+            reach(1.4, 7.0) + SKIN,
+            largest + SKIN,
+        ];
+        let classes = CandidateCells::build(&positions, &pbox, &is_large, reaches);
+        assert!(matches!(classes, CandidateCells::Classes(_)));
+        for cells in [single, classes] {
+            let list = VerletList::build(&positions, &pbox, &cells, SKIN, |i, j| {
+                reach(radii[i], radii[j])
+            });
+            assert_eq!(listed(&list), expected, "sheared: {}", pbox.is_sheared());
+        }
     }
+}
+
+#[test]
+fn colloids_and_grains_fall_into_two_size_classes_and_bidisperse_colloids_into_one() {
+    let by_radius = |radii: &[f64]| {
+        classify(radii.len(), SKIN, |s, t| {
+            reach(radii[s as usize], radii[t as usize])
+        })
+    };
+    let (large, reaches) = by_radius(&RADII);
+    assert_eq!(large, vec![false, false, true, true]);
+    let expected = [reach(1.4, 1.4), reach(1.4, 7.0), reach(7.0, 7.0)].map(|r| r + SKIN);
+    for (got, want) in reaches.iter().zip(expected) {
+        assert!((got - want).abs() < 1e-12, "{reaches:?}");
+    }
+    // Radii 1 : 1.4 (and 1 : 1.9): one class, so one cell list as before.
+    assert_eq!(by_radius(&[1.0, 1.4]).0, vec![false, false]);
+    assert_eq!(by_radius(&[1.0, 1.9]).0, vec![false, false]);
 }

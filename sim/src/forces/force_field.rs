@@ -112,6 +112,11 @@ impl ForceField {
         &self.pairs[s_i as usize * self.n_species + s_j as usize]
     }
 
+    /// Number of species.
+    pub fn n_species(&self) -> usize {
+        self.n_species
+    }
+
     /// Interaction cut-off distance of the species pair.
     pub fn cutoff(&self, s_i: u16, s_j: u16) -> f64 {
         self.constants(s_i, s_j).reach_squared.sqrt()

@@ -17,6 +17,7 @@ use crate::integrate::pass_times::PassTimes;
 use crate::integrate::stage_timers::{Stage, StageTimers};
 use crate::integrate::timestep::TimeStep;
 use crate::neighbours::cell_list::CellList;
+use crate::neighbours::size_classes::{self, CandidateCells};
 use crate::neighbours::verlet_list::VerletList;
 use crate::state::particle_ranges::each_range;
 use crate::state::particles::{sphere_inertia, Particles};
@@ -350,7 +351,10 @@ impl Simulation {
         let t = self.timers.start();
         let field = &self.field;
         let species = &self.particles.species;
-        let cells = CellList::build(&reference, &self.pbox, field.max_cutoff + self.skin);
+        let (large, reaches) =
+            size_classes::classify(field.n_species(), self.skin, |s, t| field.cutoff(s, t));
+        let is_large: Vec<bool> = species.iter().map(|&s| large[s as usize]).collect();
+        let cells = CandidateCells::build(&reference, &self.pbox, &is_large, reaches);
         let list = VerletList::build(&reference, &self.pbox, &cells, self.skin, |i, j| {
             field.cutoff(species[i], species[j])
         });

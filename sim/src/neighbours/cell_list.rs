@@ -3,6 +3,9 @@
 use crate::state::periodic_box::PeriodicBox;
 use crate::state::Vec3;
 
+/// Most rings of cells around a particle's own that [`CellList::for_each_within`] searches.
+pub const MAX_RINGS: usize = 8;
+
 /// Particles bucketed into a grid of cells at least `cutoff` wide.
 pub struct CellList {
     dims: [usize; 3],
@@ -12,6 +15,7 @@ pub struct CellList {
     shear_offset: f64,
     /// `start[c]..start[c+1]` indexes `particles` for cell c.
     start: Vec<usize>,
+    /// Indices into the positions the list was built over.
     particles: Vec<u32>,
 }
 
@@ -20,6 +24,13 @@ impl CellList {
     /// sheared box needs at least three cells along y (the scene validation ensures it),
     /// so that the rows across the y faces are distinct from the row inside.
     pub fn build(positions: &[Vec3], pbox: &PeriodicBox, cutoff: f64) -> Self {
+        let all: Vec<u32> = (0..positions.len() as u32).collect();
+        Self::build_of(positions, pbox, cutoff, &all)
+    }
+
+    /// [`Self::build`] over the `members` of `positions` only (indices into it, in
+    /// increasing order): one size class of a mixture.
+    pub fn build_of(positions: &[Vec3], pbox: &PeriodicBox, cutoff: f64, members: &[u32]) -> Self {
         let mut dims = [1usize; 3];
         let mut cell_size = Vec3::zeros();
         for k in 0..3 {
@@ -27,9 +38,9 @@ impl CellList {
             cell_size[k] = pbox.len[k] / dims[k] as f64;
         }
         let n_cells = dims[0] * dims[1] * dims[2];
-        let cells: Vec<usize> = positions
+        let cells: Vec<usize> = members
             .iter()
-            .map(|x| Self::cell_index(&dims, &cell_size, x))
+            .map(|&i| Self::cell_index(&dims, &cell_size, &positions[i as usize]))
             .collect();
         let mut start = vec![0usize; n_cells + 1];
         for &c in &cells {
@@ -39,9 +50,9 @@ impl CellList {
             start[c + 1] += start[c];
         }
         let mut fill = start.clone();
-        let mut particles = vec![0u32; positions.len()];
-        for (i, &c) in cells.iter().enumerate() {
-            particles[fill[c]] = i as u32;
+        let mut particles = vec![0u32; members.len()];
+        for (&i, &c) in members.iter().zip(&cells) {
+            particles[fill[c]] = i;
             fill[c] += 1;
         }
         debug_assert!(!pbox.is_sheared() || dims[1] >= 3);
@@ -53,6 +64,16 @@ impl CellList {
             start,
             particles,
         }
+    }
+
+    /// Cells along each axis.
+    pub fn dims(&self) -> [usize; 3] {
+        self.dims
+    }
+
+    /// The narrowest cell width (over the three axes).
+    pub fn min_cell_size(&self) -> f64 {
+        self.cell_size.min()
     }
 
     fn cell_index(dims: &[usize; 3], size: &Vec3, x: &Vec3) -> usize {
@@ -70,15 +91,21 @@ impl CellList {
         &self.particles
     }
 
-    /// Cells along axis k within one cell of coordinate `c` (deduplicated when the grid
-    /// has fewer than three cells along k), each with the periodic image it is reached
-    /// through: -1 across the lower face, 1 across the upper face, 0 inside.
-    fn axis_cells(&self, k: usize, c: f64) -> ([(usize, i32); 3], usize) {
+    /// Cells along axis k within `rings` cells of coordinate `c` (deduplicated when the
+    /// grid has fewer than `2 rings + 1` cells along k), each with the periodic image it
+    /// is reached through: -1 across the lower face, 1 across the upper face, 0 inside.
+    fn axis_cells(
+        &self,
+        k: usize,
+        c: f64,
+        rings: usize,
+    ) -> ([(usize, i32); 2 * MAX_RINGS + 1], usize) {
         let n = self.dims[k];
         let home = ((c / self.cell_size[k]) as usize).min(n - 1);
-        let mut cells = [(0, 0); 3];
+        let mut cells = [(0, 0); 2 * MAX_RINGS + 1];
         let mut len = 0;
-        for step in [-1i64, 0, 1] {
+        let rings = rings as i64;
+        for step in -rings..=rings {
             let raw = home as i64 + step;
             let image = if raw < 0 {
                 -1
@@ -97,21 +124,30 @@ impl CellList {
     }
 
     /// Calls `visit(j)` once for every particle in the cells adjacent to (and including)
-    /// the cell of position `x`; each distinct cell is visited once even when the grid
-    /// has fewer than three cells along an axis. In a sheared box the cells across a y
-    /// face are those around `x` moved by the image offset along x (docs/physics.md
-    /// section 10): the row beyond the upper face is seen through its image above, shifted
-    /// by `+offset`, so its particles near `x_x - offset` are the neighbours.
-    pub fn for_each_near(&self, x: &Vec3, mut visit: impl FnMut(u32)) {
-        let (ys, ny) = self.axis_cells(1, x.y);
-        let (zs, nz) = self.axis_cells(2, x.z);
+    /// the cell of position `x`: [`Self::for_each_within`] one ring.
+    pub fn for_each_near(&self, x: &Vec3, visit: impl FnMut(u32)) {
+        self.for_each_within(x, 1, visit)
+    }
+
+    /// Calls `visit(j)` once for every particle in the cells within `rings` (at most
+    /// [`MAX_RINGS`]) of the cell of position `x`; each distinct cell is visited once even
+    /// when the grid has fewer than `2 rings + 1` cells along an axis. In a sheared box the
+    /// cells across a y face are those around `x` moved by the image offset along x
+    /// (docs/physics.md section 10): the row beyond the upper face is seen through its
+    /// image above, shifted by `+offset`, so its particles near `x_x - offset` are the
+    /// neighbours. That needs at least `2 rings + 1` cells along y, so that no row is
+    /// reached both inside and through an image.
+    pub fn for_each_within(&self, x: &Vec3, rings: usize, mut visit: impl FnMut(u32)) {
+        debug_assert!(rings <= MAX_RINGS);
+        let (ys, ny) = self.axis_cells(1, x.y, rings);
+        let (zs, nz) = self.axis_cells(2, x.z, rings);
         for &(cy, image) in &ys[..ny] {
             let x_search = if image == 0 {
                 x.x
             } else {
                 (x.x - image as f64 * self.shear_offset).rem_euclid(self.len_x)
             };
-            let (xs, nx) = self.axis_cells(0, x_search);
+            let (xs, nx) = self.axis_cells(0, x_search, rings);
             for &(cx, _) in &xs[..nx] {
                 for &(cz, _) in &zs[..nz] {
                     let c = (cy * self.dims[2] + cz) * self.dims[0] + cx;

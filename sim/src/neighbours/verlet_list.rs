@@ -1,7 +1,7 @@
 //! Half Verlet neighbour list with a skin (pairs i < j closer than cut-off + skin),
 //! rebuilt from a cell list when a particle has moved more than half the skin (less, in a
 //! sheared box, what the sliding images have moved).
-use crate::neighbours::cell_list::CellList;
+use crate::neighbours::size_classes::CandidateCells;
 use crate::state::periodic_box::PeriodicBox;
 use crate::state::Vec3;
 use rayon::prelude::*;
@@ -28,11 +28,11 @@ pub struct VerletList {
 
 impl VerletList {
     /// Lists every pair whose distance is below `cutoff(i, j) + skin`, using `cells`
-    /// built over `positions` with cells at least as wide as the largest such distance.
+    /// built over `positions` for those distances.
     pub fn build(
         positions: &[Vec3],
         pbox: &PeriodicBox,
-        cells: &CellList,
+        cells: &CandidateCells,
         skin: f64,
         cutoff: impl Fn(usize, usize) -> f64 + Sync,
     ) -> Self {
@@ -48,7 +48,7 @@ impl VerletList {
                 for (r, x_i) in chunk.iter().enumerate() {
                     let i = c * BUILD_CHUNK + r;
                     let row = found.len();
-                    cells.for_each_near(x_i, |j| {
+                    cells.for_each_candidate(i, x_i, |j| {
                         let ju = j as usize;
                         if ju > i {
                             let reach = cutoff(i, ju) + skin;

@@ -280,3 +280,21 @@ fn duplicate_scenes_are_refused() {
         assert!(message.contains(expected), "{extra}: {message}");
     }
 }
+
+#[test]
+fn every_shipped_grid_expands_into_valid_scenes() {
+    // The grids in grids/ (the SLURM ones included) are read by commands a user runs days
+    // later: each must still parse and every scene validate with the current code.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../grids");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let grid =
+                Grid::from_path(&path, false).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            assert!(!grid.runs.is_empty(), "{}", path.display());
+            checked += 1;
+        }
+    }
+    assert!(checked >= 10, "{checked} grids");
+}

@@ -477,13 +477,13 @@ fn simulate_keeps_earlier_runs_and_resume_appends_frames() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-#[test]
-fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
-    let dir = scratch("flow-curves");
-    let (runs, out) = (dir.join("runs"), dir.join("report"));
-    let generated = suspflow(&[
+/// Runs `grid` with `generate` (two runs at a time) into `dir/runs`, its dataset at
+/// `dir/bins.csv`; returns the work directory.
+fn generate_grid(grid: &str, dir: &Path) -> PathBuf {
+    let runs = dir.join("runs");
+    assert_ok(&suspflow(&[
         "generate",
-        "tests/grids/tiny_shear.toml",
+        grid,
         "--out",
         dir.join("bins.csv").to_str().unwrap(),
         "--work",
@@ -492,18 +492,28 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
         "2",
         "--threads",
         "1",
-    ]);
-    assert_ok(&generated);
-    let flow_curves = |grid: &str| {
-        suspflow(&[
-            "flow-curves",
-            grid,
-            "--runs",
-            runs.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-    };
+    ]));
+    runs
+}
+
+/// `suspflow flow-curves GRID --runs RUNS --out OUT`.
+fn flow_curves(grid: &str, runs: &Path, out: &Path) -> std::process::Output {
+    suspflow(&[
+        "flow-curves",
+        grid,
+        "--runs",
+        runs.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
+#[test]
+fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
+    let dir = scratch("flow-curves");
+    let runs = generate_grid("tests/grids/tiny_shear.toml", &dir);
+    let out = dir.join("report");
+    let flow_curves = |grid: &str| flow_curves(grid, &runs, &out);
     assert_ok(&flow_curves("tests/grids/tiny_shear.toml"));
     let (header, rows) = read_csv(&out.join("flow_curves.csv"));
     assert_eq!(rows.len(), 6);
@@ -620,32 +630,10 @@ fn green_kubo_integrates_an_equilibrium_run_and_refuses_what_it_cannot() {
 #[test]
 fn flow_curves_over_the_peclet_number_split_the_viscosity() {
     let dir = scratch("flow-curves-pe");
-    let (runs, out) = (dir.join("runs"), dir.join("report"));
     let grid = "tests/grids/tiny_brownian_shear.toml";
-    let runs_arg = runs.to_str().unwrap();
-    let bins = dir.join("bins.csv");
-    let generate = [
-        "generate",
-        grid,
-        "--out",
-        bins.to_str().unwrap(),
-        "--work",
-        runs_arg,
-        "--jobs",
-        "2",
-        "--threads",
-        "1",
-    ];
-    assert_ok(&suspflow(&generate));
-    let out_arg = out.to_str().unwrap();
-    assert_ok(&suspflow(&[
-        "flow-curves",
-        grid,
-        "--runs",
-        runs_arg,
-        "--out",
-        out_arg,
-    ]));
+    let runs = generate_grid(grid, &dir);
+    let out = dir.join("report");
+    assert_ok(&flow_curves(grid, &runs, &out));
     let (header, rows) = read_csv(&out.join("flow_curves.csv"));
     assert_eq!(rows.len(), 6);
     let column = |name: &str| header.iter().position(|h| h == name).unwrap();
@@ -682,29 +670,10 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
 #[test]
 fn flow_curves_of_a_mixture_tabulate_its_composition_and_peclet_numbers() {
     let dir = scratch("flow-curves-mixture");
-    let (runs, out) = (dir.join("runs"), dir.join("report"));
     let grid = "tests/grids/tiny_grain_mixture.toml";
-    let bins = dir.join("bins.csv");
-    assert_ok(&suspflow(&[
-        "generate",
-        grid,
-        "--out",
-        bins.to_str().unwrap(),
-        "--work",
-        runs.to_str().unwrap(),
-        "--jobs",
-        "2",
-        "--threads",
-        "1",
-    ]));
-    assert_ok(&suspflow(&[
-        "flow-curves",
-        grid,
-        "--runs",
-        runs.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]));
+    let runs = generate_grid(grid, &dir);
+    let out = dir.join("report");
+    assert_ok(&flow_curves(grid, &runs, &out));
     let (header, rows) = read_csv(&out.join("flow_curves.csv"));
     assert_eq!(rows.len(), 4);
     let column = |name: &str| header.iter().position(|h| h == name).unwrap();

@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""The viscosity table of colloid-grain mixtures (issue 29): the mixture rows of one or
+more `suspflow flow-curves` tables (flow_curves.csv, whose last columns carry a mixture's
+composition and Peclet numbers), reduced to the columns the mixture study compares with
+the thesis, sorted by alpha, phi, friction, Pe_c and seed; a run found in two tables (the
+same scene and seed in two grids, the same bits) is kept once. Nothing is computed here:
+every value is the flow-curves table's.
+
+    python3 scripts/mixture_table.py reports/mixtures/pe1/flow_curves.csv \
+        reports/mixtures/grains_pe/flow_curves.csv --out reports/mixtures/viscosity.csv
+"""
+import argparse
+import csv
+import os
+import sys
+
+COLUMNS = [
+    "alpha", "alpha_actual", "phi", "phi_actual", "peclet_c", "peclet_cg", "mu_p", "seed",
+    "n_particles", "eta_r", "eta_r_se", "eta_r_contact", "eta_r_contact_se",
+    "eta_r_hydrodynamic", "eta_r_hydrodynamic_se", "eta_r_brownian", "eta_r_brownian_se",
+    "scene_id",
+]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("tables", nargs="+", help="flow_curves.csv files of mixture grids")
+    parser.add_argument("--out", required=True, help="the table to write")
+    parser.add_argument("--force", action="store_true", help="replace an existing --out")
+    args = parser.parse_args()
+    if os.path.exists(args.out) and not args.force:
+        sys.exit(f"{args.out} exists; give --force to replace it")
+    rows = []
+    for path in args.tables:
+        with open(path, newline="") as f:
+            reader = csv.DictReader(f)
+            missing = [c for c in COLUMNS if c not in reader.fieldnames]
+            if missing:
+                sys.exit(f"{path}: no column(s) {', '.join(missing)} (not a flow-curves table "
+                         "of this version?)")
+            table = [r for r in reader if r["alpha"] != ""]
+            if not table:
+                sys.exit(f"{path}: no mixture rows (empty `alpha`)")
+            rows += [{c: r[c] for c in COLUMNS} for r in table]
+    # A run in two grids (the same scene and seed) is one run: identical bits, kept once.
+    unique = {}
+    for r in rows:
+        key = (r["alpha"], r["phi"], r["mu_p"], r["peclet_c"], r["seed"], r["n_particles"])
+        if key in unique and unique[key]["eta_r"] != r["eta_r"]:
+            sys.exit(f"two runs of alpha {key[0]}, phi {key[1]}, mu_p {key[2]}, Pe_c {key[3]}, "
+                     f"seed {key[4]} differ: eta_r {unique[key]['eta_r']} and {r['eta_r']}")
+        unique.setdefault(key, r)
+    rows = list(unique.values())
+    rows.sort(key=lambda r: (float(r["alpha"]), float(r["phi"]), float(r["mu_p"]),
+                             float(r["peclet_c"]), int(r["seed"])))
+    with open(args.out, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=COLUMNS)
+        writer.writeheader()
+        writer.writerows(rows)
+    print(f"{args.out}: {len(rows)} rows from {len(args.tables)} table(s)")
+
+
+if __name__ == "__main__":
+    main()

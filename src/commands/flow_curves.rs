@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 use surrogate::rheology::local_viscosity::{self, LocalBand};
 use surrogate::{
     bin_viscosity, over_seeds, part_viscosity, state_rows, states, volume_fractions, Dataset,
-    JammingLaw, State, StateFits, StatePoint, CONVENTIONS, SEEDS_LAW,
+    JammingLaw, State, StateFits, StatePoint, CONVENTIONS, MIN_VOLUME_FRACTIONS, SEEDS_LAW,
 };
 
 /// Centres of the `phi_loc` bands of the local-versus-homogeneous table.
@@ -507,8 +507,20 @@ fn summary_text(
          hydrodynamic + Green-Kubo Brownian viscosity):\n\n\
          | state | stress | phi_J | lambda | per seed (phi_J, lambda) |\n|---|---|---|---|---|\n",
     );
+    let mut unfitted = Vec::new();
+    let mut unavailable = false;
     for f in fits {
-        for ((name, _), fit) in CONVENTIONS.iter().zip(&f.fits) {
+        let of_state: Vec<&StatePoint> = points.iter().filter(|p| p.state == f.state).collect();
+        let phis: Vec<StatePoint> = of_state.iter().map(|&&p| p).collect();
+        if volume_fractions(&phis).len() < MIN_VOLUME_FRACTIONS {
+            unfitted.push(label(&f.state));
+            continue;
+        }
+        for ((name, value), fit) in CONVENTIONS.iter().zip(&f.fits) {
+            if of_state.iter().all(|p| value(p).0.is_nan()) {
+                unavailable = true;
+                continue;
+            }
             match fit {
                 Ok(fit) => {
                     let seeds: Vec<String> = fit
@@ -532,6 +544,19 @@ fn summary_text(
                 }
             }
         }
+    }
+    if unavailable {
+        s.push_str(
+            "\nStresses not measured for a state (the Green-Kubo Brownian viscosity without \
+             `--green-kubo`) have no row.\n",
+        );
+    }
+    if !unfitted.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nNot fitted, fewer than {MIN_VOLUME_FRACTIONS} volume fractions: {}.",
+            unfitted.join("; ")
+        );
     }
     if let Some(bands) = local {
         let _ = writeln!(

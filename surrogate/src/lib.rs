@@ -46,7 +46,7 @@ pub use rheology::flow_curves::{
     over_seeds, part_viscosity, seed_mean, state_rows, states, volume_fractions, State, StateFits,
     StatePoint, StateRow, CONVENTIONS,
 };
-pub use rheology::jamming_law::{JammingLaw, SEEDS_LAW};
+pub use rheology::jamming_law::{JammingLaw, MIN_VOLUME_FRACTIONS, SEEDS_LAW};
 pub use rheology::local_rheology::LocalRheology;
 pub use rheology::statistics::{mean_and_standard_error, median, DescriptorStats};
 pub use schema::excerpt;

@@ -18,6 +18,8 @@ pub const SEEDS_LAW: JammingLaw = JammingLaw {
 
 /// Largest `phi_J` searched: random close packing of bidisperse spheres lies below it.
 const PHI_J_MAX: f64 = 0.74;
+/// Distinct volume fractions the fit of the law's two parameters needs.
+pub const MIN_VOLUME_FRACTIONS: usize = 3;
 
 /// `eta_r = (1 - phi/phi_J)^(-lambda)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,10 +81,12 @@ impl JammingLaw {
             )));
         }
         let phi_top = phi.iter().cloned().fold(0.0, f64::max);
-        let distinct = phi.iter().filter(|&&p| p < phi_top).count();
-        if phi.len() < 3 || distinct < 2 {
+        let mut distinct = phi.to_vec();
+        distinct.sort_by(f64::total_cmp);
+        distinct.dedup();
+        if distinct.len() < MIN_VOLUME_FRACTIONS {
             return Err(SurrogateError::InvalidArgument(format!(
-                "the jamming law needs points at three or more volume fractions, got {phi:?}"
+                "the jamming law needs points at {MIN_VOLUME_FRACTIONS} or more volume fractions, got {phi:?}"
             )));
         }
         let ln_eta: Vec<f64> = eta_r.iter().map(|e| e.ln()).collect();

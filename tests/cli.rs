@@ -699,7 +699,7 @@ fn flow_curves_of_a_mixture_tabulate_its_composition_and_peclet_numbers() {
     // Two volume fractions per Peclet number: one sentence instead of a table of failures.
     let readme = std::fs::read_to_string(out.join("README.md")).unwrap();
     assert!(
-        !readme.contains("| pair stresslets (box) |")
+        !readme.contains("Fit of `eta_r")
             && readme.contains(
                 "Not fitted, fewer than 3 volume fractions: mu_p = 0, Pe = 1.000e-1; mu_p = 0, Pe = 1.000e1."
             ),

@@ -500,13 +500,14 @@ fn summary_text(
             );
         }
     }
-    s.push_str(
+    let fit_header = String::from(
         "\nFit of `eta_r = (1 - phi/phi_J)^(-lambda)` per state (least squares in `ln eta_r`, \
          all points; standard errors from the seeds' separate fits), beside the seeds' \
          `phi_J = 0.642`, `lambda = 1.5` (frictionless, high Pe) and `phi_J = 0.587` (Pe -> 0, \
          hydrodynamic + Green-Kubo Brownian viscosity):\n\n\
          | state | stress | phi_J | lambda | per seed (phi_J, lambda) |\n|---|---|---|---|---|\n",
     );
+    let mut rows = String::new();
     let mut unfitted = Vec::new();
     let mut unavailable = false;
     for f in fits {
@@ -529,7 +530,7 @@ fn summary_text(
                         .map(|(s, l)| format!("seed {s}: {:.4}, {:.3}", l.phi_j, l.lambda))
                         .collect();
                     let _ = writeln!(
-                        s,
+                        rows,
                         "| {} | {name} | {:.4} ± {:.4} | {:.3} ± {:.3} | {} |",
                         label(&f.state),
                         fit.all.phi_j,
@@ -540,10 +541,18 @@ fn summary_text(
                     );
                 }
                 Err(e) => {
-                    let _ = writeln!(s, "| {} | {name} | not fitted: {e} | | |", label(&f.state));
+                    let _ = writeln!(
+                        rows,
+                        "| {} | {name} | not fitted: {e} | | |",
+                        label(&f.state)
+                    );
                 }
             }
         }
+    }
+    if !rows.is_empty() {
+        s.push_str(&fit_header);
+        s.push_str(&rows);
     }
     if unavailable {
         s.push_str(

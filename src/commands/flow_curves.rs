@@ -511,9 +511,12 @@ fn summary_text(
     let mut unfitted = Vec::new();
     let mut unavailable = false;
     for f in fits {
-        let of_state: Vec<&StatePoint> = points.iter().filter(|p| p.state == f.state).collect();
-        let phis: Vec<StatePoint> = of_state.iter().map(|&&p| p).collect();
-        if volume_fractions(&phis).len() < MIN_VOLUME_FRACTIONS {
+        let of_state: Vec<StatePoint> = points
+            .iter()
+            .filter(|p| p.state == f.state)
+            .copied()
+            .collect();
+        if volume_fractions(&of_state).len() < MIN_VOLUME_FRACTIONS {
             unfitted.push(label(&f.state));
             continue;
         }

@@ -625,20 +625,50 @@ fn green_kubo_integrates_an_equilibrium_run_and_refuses_what_it_cannot() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A flow-curves run of a generated grid: the scratch directory, the report directory and
+/// the per-run table.
+struct FlowCurvesRun {
+    dir: PathBuf,
+    out: PathBuf,
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl FlowCurvesRun {
+    /// Generates `grid` in scratch directory `name` and runs flow-curves on it.
+    fn of(grid: &str, name: &str) -> Self {
+        let dir = scratch(name);
+        let runs = generate_grid(grid, &dir);
+        let out = dir.join("report");
+        assert_ok(&flow_curves(grid, &runs, &out));
+        let (header, rows) = read_csv(&out.join("flow_curves.csv"));
+        FlowCurvesRun {
+            dir,
+            out,
+            header,
+            rows,
+        }
+    }
+
+    /// The number in column `name` of `row`.
+    fn value(&self, row: &[String], name: &str) -> f64 {
+        let column = self.header.iter().position(|h| h == name).unwrap();
+        row[column].parse().unwrap()
+    }
+
+    fn readme(&self) -> String {
+        std::fs::read_to_string(self.out.join("README.md")).unwrap()
+    }
+}
+
 /// Issue 28: a grid over the Peclet number gives the parts of `eta_r` per run, a fit per
 /// Peclet number and a figure of `eta_r(Pe)` per volume fraction.
 #[test]
 fn flow_curves_over_the_peclet_number_split_the_viscosity() {
-    let dir = scratch("flow-curves-pe");
-    let grid = "tests/grids/tiny_brownian_shear.toml";
-    let runs = generate_grid(grid, &dir);
-    let out = dir.join("report");
-    assert_ok(&flow_curves(grid, &runs, &out));
-    let (header, rows) = read_csv(&out.join("flow_curves.csv"));
-    assert_eq!(rows.len(), 6);
-    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
-    let value = |row: &Vec<String>, name: &str| -> f64 { row[column(name)].parse().unwrap() };
-    for row in &rows {
+    let run = FlowCurvesRun::of("tests/grids/tiny_brownian_shear.toml", "flow-curves-pe");
+    assert_eq!(run.rows.len(), 6);
+    let value = |row: &Vec<String>, name: &str| run.value(row, name);
+    for row in &run.rows {
         let pe = value(row, "peclet");
         assert!(pe == 10.0 || pe == 1000.0, "{row:?}");
         assert_eq!(value(row, "mu_p"), 0.0);
@@ -653,7 +683,7 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
         assert!(value(row, "eta_r_brownian") > 0.0, "{row:?}");
         assert!(value(row, "eta_r_se") > 0.0, "{row:?}");
     }
-    let readme = std::fs::read_to_string(out.join("README.md")).unwrap();
+    let readme = run.readme();
     assert!(
         readme.contains("| mu_p = 0, Pe = 1.000e1 | pair stresslets (box) |"),
         "{readme}"
@@ -664,26 +694,20 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
         "{readme}"
     );
     for phi in ["0.400", "0.480", "0.550"] {
-        let svg = std::fs::read_to_string(out.join(format!("eta_r_Pe_phi{phi}.svg"))).unwrap();
+        let svg = std::fs::read_to_string(run.out.join(format!("eta_r_Pe_phi{phi}.svg"))).unwrap();
         assert!(svg.contains("structural Brownian"), "phi {phi}");
     }
-    std::fs::remove_dir_all(&dir).ok();
+    std::fs::remove_dir_all(&run.dir).ok();
 }
 
 /// Issue 29: the flow curves of colloid-grain mixtures carry their composition and both
 /// Peclet numbers (grains only here, so that the runs are tiny).
 #[test]
 fn flow_curves_of_a_mixture_tabulate_its_composition_and_peclet_numbers() {
-    let dir = scratch("flow-curves-mixture");
-    let grid = "tests/grids/tiny_grain_mixture.toml";
-    let runs = generate_grid(grid, &dir);
-    let out = dir.join("report");
-    assert_ok(&flow_curves(grid, &runs, &out));
-    let (header, rows) = read_csv(&out.join("flow_curves.csv"));
-    assert_eq!(rows.len(), 4);
-    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
-    let value = |row: &Vec<String>, name: &str| -> f64 { row[column(name)].parse().unwrap() };
-    for row in &rows {
+    let run = FlowCurvesRun::of("tests/grids/tiny_grain_mixture.toml", "flow-curves-mixture");
+    assert_eq!(run.rows.len(), 4);
+    let value = |row: &Vec<String>, name: &str| run.value(row, name);
+    for row in &run.rows {
         assert_eq!(value(row, "alpha"), 1.0);
         assert_eq!(value(row, "alpha_actual"), 1.0);
         let pe_c = value(row, "peclet_c");
@@ -697,7 +721,7 @@ fn flow_curves_of_a_mixture_tabulate_its_composition_and_peclet_numbers() {
         assert!((6.0 * std::f64::consts::PI * 0.01 / kt / pe_c - 1.0).abs() < 1e-9);
     }
     // Two volume fractions per Peclet number: one sentence instead of a table of failures.
-    let readme = std::fs::read_to_string(out.join("README.md")).unwrap();
+    let readme = run.readme();
     assert!(
         !readme.contains("Fit of `eta_r")
             && readme.contains(
@@ -705,7 +729,7 @@ fn flow_curves_of_a_mixture_tabulate_its_composition_and_peclet_numbers() {
             ),
         "{readme}"
     );
-    std::fs::remove_dir_all(&dir).ok();
+    std::fs::remove_dir_all(&run.dir).ok();
 }
 
 #[test]

@@ -83,7 +83,7 @@ fn cell_and_verlet_lists_hold_every_pair_of_a_colloid_grain_mixture() {
             reach(1.4, 7.0) + SKIN,
             largest + SKIN,
         ];
-        let classes = CandidateCells::build(&positions, &pbox, &is_large, reaches);
+        let classes = CandidateCells::build(&positions, &pbox, is_large, reaches);
         assert!(matches!(classes, CandidateCells::Classes(_)));
         for cells in [single, classes] {
             let list = VerletList::build(&positions, &pbox, &cells, SKIN, |i, j| {

@@ -354,7 +354,7 @@ impl Simulation {
         let (large, reaches) =
             size_classes::classify(field.n_species(), self.skin, |s, t| field.cutoff(s, t));
         let is_large: Vec<bool> = species.iter().map(|&s| large[s as usize]).collect();
-        let cells = CandidateCells::build(&reference, &self.pbox, &is_large, reaches);
+        let cells = CandidateCells::build(&reference, &self.pbox, is_large, reaches);
         let list = VerletList::build(&reference, &self.pbox, &cells, self.skin, |i, j| {
             field.cutoff(species[i], species[j])
         });

@@ -77,7 +77,7 @@ impl CandidateCells {
     pub fn build(
         positions: &[Vec3],
         pbox: &PeriodicBox,
-        is_large: &[bool],
+        is_large: Vec<bool>,
         [reach_small, reach_mixed, reach_max]: [f64; 3],
     ) -> Self {
         let single = || CandidateCells::Single(CellList::build(positions, pbox, reach_max));
@@ -102,7 +102,7 @@ impl CandidateCells {
         CandidateCells::Classes(SizeClasses {
             small,
             large: CellList::build_of(positions, pbox, reach_max, &large),
-            is_large: is_large.to_vec(),
+            is_large,
             rings,
         })
     }

@@ -210,7 +210,7 @@ def write_report(args, results, checks, mappings):
              "```sh", "python3 scripts/solver_lofo.py --suspflow target/release/suspflow "
              f"--train {args.train} " + (f"--held-out {' '.join(args.held_out)} " if args.held_out else "")
              + (f"--shipped {args.shipped} --check {' '.join(args.check)} " if args.check else "")
-             + f"--out {args.out}", "```", "",
+             + ("--skip-lofo " if args.skip_lofo else "") + f"--out {args.out}", "```", "",
              "Per family and closure, means over its scenes: relative L2 errors (eq 6.6, "
              "unscaled, %) of u, phi_loc and mu against the ensemble means; mean absolute mu "
              "error in the plug bins (|gdot| < 0.1 max); largest absolute mu error at a plug "

@@ -15,7 +15,9 @@
 //!   ([`crate::theta_balance`]), divided by `Theta_k`;
 //! - closure at every face and bin centre: `J = eta |gdot| / P` and the closure's second
 //!   feature, `Delta_v = |u_inf - u| / (|u_inf| + 1e-5)` (eq 6.2) or `Theta` (the bin's, and
-//!   the geometric mean of the two bins' at a face), give `(phi_loc, mu)`.
+//!   the geometric mean of the two bins' at a face), give `(phi_loc, mu)`: mu at the faces,
+//!   phi_loc at the bin centres. A solved bin's stress is the mean of its two faces'
+//!   ([`ProfileSolution::sigma_xy`]).
 //!
 //! `|gdot|` is regularised as `sqrt(gdot^2 + delta^2)` with `delta` a thousandth of the
 //! forcing's largest shear rate: at a velocity extremum `gdot` changes sign, and both laws
@@ -60,7 +62,6 @@ const MIN_CONTINUATION_STEP: f64 = 1.0 / 64.0;
 struct BinState {
     f: f64,
     phi_loc: f64,
-    mu: f64,
     j: f64,
     delta_v: f64,
     gdot: f64,
@@ -181,11 +182,10 @@ impl ProfileProblem {
             Descriptor::DeltaV => delta_v,
             Descriptor::Theta(_) => x[layout.theta(k)].exp(),
         };
-        let (phi_loc, mu) = closure.evaluate(j, second, self.phi)?;
+        let (phi_loc, _) = closure.evaluate(j, second, self.phi)?;
         Ok(BinState {
             f: self.drag_coefficient * phi_loc * (ui - u),
             phi_loc,
-            mu,
             j,
             delta_v,
             gdot,
@@ -516,14 +516,19 @@ impl ProfileProblem {
             continued,
             ..ProfileSolution::default()
         };
-        for k in 0..layout.n {
+        let n = layout.n;
+        let faces: Vec<f64> = (0..n)
+            .map(|k| self.face(closure, layout, x, k, floor))
+            .collect::<Result<_>>()?;
+        for k in 0..n {
             let b = self.bin(closure, layout, x, k, floor)?;
+            let sigma = 0.5 * (faces[(k + n - 1) % n] + faces[k]);
             s.u.push(x[k]);
             s.gdot.push(b.gdot);
-            s.sigma_xy.push(-b.gdot.signum() * b.mu * s.pressure);
+            s.sigma_xy.push(sigma);
             s.phi_loc.push(b.phi_loc);
             s.j.push(b.j);
-            s.mu.push(b.mu);
+            s.mu.push(sigma.abs() / s.pressure);
             s.delta_v.push(b.delta_v);
             s.f_x.push(b.f);
             if layout.balance.is_some() {

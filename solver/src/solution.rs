@@ -8,12 +8,16 @@ pub struct ProfileSolution {
     pub u: Vec<f64>,
     /// Centred difference of `u` (1/time).
     pub gdot: Vec<f64>,
-    /// Shear stress at the bin centre, `-sign(gdot) mu P` (positive in compression).
+    /// Shear stress of the bin (positive in compression): the mean of the closure's stresses
+    /// `-sign(gdot) mu P` at its two faces, where the momentum balance holds. Where the
+    /// stress changes sign inside a bin (a plug's centre) it is the balance's value near
+    /// zero, not the closure's at a shear rate near zero.
     pub sigma_xy: Vec<f64>,
     /// Uniform pressure.
     pub pressure: f64,
     pub phi_loc: Vec<f64>,
     pub j: Vec<f64>,
+    /// `|sigma_xy| / P`, of the bin's stress above.
     pub mu: Vec<f64>,
     pub delta_v: Vec<f64>,
     /// Drag density `c phi_loc (u_inf - u)`.

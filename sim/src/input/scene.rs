@@ -685,6 +685,12 @@ impl Scene {
         if let Some(w) = thermal.as_ref().and_then(ThermalScales::warning) {
             warnings.push(w);
         }
+        if let Some(w) = thermal
+            .as_ref()
+            .and_then(|t| thermal_scales::soft_contact_warning(t.kt, file.forces.k_n, a_min))
+        {
+            warnings.push(w);
+        }
         let composition = file
             .particles
             .mixture

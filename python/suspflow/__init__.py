@@ -240,7 +240,8 @@ def solve(
     """The steady profile of a scene from its forcing alone (``suspflow solve``): bin
     velocities ``u`` (a/time) and one pressure ``P`` (eta/time) that balance the face stress
     ``-sign(gdot) mu P`` against the drag density ``6 pi eta <a>/<V_p> phi_loc (u_inf - u)``
-    with ``mean(phi_loc) = phi`` (docs/physics.md section 8), closed by ``closure``:
+    (``u_inf`` averaged over each bin) with ``mean(phi_loc) = phi`` (docs/physics.md section
+    8), closed by ``closure``:
     ``"learned"`` (the ``dv`` model in ``models``), ``"local"`` (the local rheology fitted
     on ``train``, by default the ``dv`` model's training data) or ``"nonlocal"`` (the
     ``theta`` model with the Theta balance fitted on the same data). Newton iterations start

@@ -6,7 +6,8 @@
 //! temperatures `Theta_k` (solved as `ln Theta_k`). Equations, on `n` periodic bins of width
 //! `w` (the same balance `simulate` checks, stresses positive in compression):
 //! - per bin `(sigma_{k+1/2} - sigma_{k-1/2}) / w = f_k`: the particle shear stress at the bin
-//!   faces balances the drag density `f_k = c phi_loc_k (u_inf,k - u_k)`, with
+//!   faces balances the drag density `f_k = c phi_loc_k (u_inf,k - u_k)` (`u_inf,k` the
+//!   forcing averaged over the bin, [`ProfileProblem::u_inf_mean`]), with
 //!   `c = 6 pi eta <a> / <V_p>` (Stokes drag per particle over mean particle volume, thesis
 //!   eq 3.5) and `sigma_{k+1/2} = -sign(gdot) mu P`, `gdot = (u_{k+1} - u_k) / w`;
 //! - the normal stress is uniform along y (one `P`), and `phi_loc` averages to `phi`;
@@ -153,9 +154,10 @@ impl ProfileProblem {
         let j = self.eta * magnitude / p;
         let second = match closure.descriptor() {
             Descriptor::None => 0.0,
-            Descriptor::DeltaV => {
-                Self::delta_v(0.5 * (self.u_inf[k] + self.u_inf[k1]), 0.5 * (x[k] + x[k1]))
-            }
+            Descriptor::DeltaV => Self::delta_v(
+                0.5 * (self.u_inf_mean[k] + self.u_inf_mean[k1]),
+                0.5 * (x[k] + x[k1]),
+            ),
             Descriptor::Theta(_) => (0.5 * (x[layout.theta(k)] + x[layout.theta(k1)])).exp(),
         };
         let (_, mu) = closure.evaluate(j, second, self.phi)?;
@@ -172,7 +174,7 @@ impl ProfileProblem {
         floor: f64,
     ) -> Result<BinState> {
         let n = layout.n;
-        let (um, u, up, ui) = (x[(k + n - 1) % n], x[k], x[(k + 1) % n], self.u_inf[k]);
+        let (um, u, up, ui) = (x[(k + n - 1) % n], x[k], x[(k + 1) % n], self.u_inf_mean[k]);
         let p = x[layout.ln_p()].exp();
         let gdot = (up - um) / (2.0 * self.bin_width);
         let j = self.eta * (gdot * gdot + floor * floor).sqrt() / p;
@@ -292,7 +294,7 @@ impl ProfileProblem {
         match from {
             Some(from) => x.rows_mut(0, n + 1).copy_from(&from.rows(0, n + 1)),
             None => {
-                x.rows_mut(0, n).copy_from_slice(&self.u_inf);
+                x.rows_mut(0, n).copy_from_slice(&self.u_inf_mean);
                 x[layout.ln_p()] = p_start.ln();
             }
         }
@@ -328,15 +330,18 @@ impl ProfileProblem {
     ) -> Result<ProfileSolution> {
         let n = self.n_bins();
         if n < 3
+            || self.u_inf_mean.len() != n
             || self.bin_width.is_nan()
             || self.bin_width <= 0.0
             || p_start.is_nan()
             || p_start <= 0.0
         {
             return Err(SolverError::InvalidArgument(format!(
-                "the profile solver needs at least 3 bins of positive width and a positive \
-                 starting pressure ({n} bins of width {}, P {p_start})",
-                self.bin_width
+                "the profile solver needs at least 3 bins of positive width, the forcing's \
+                 centre and mean values on each, and a positive starting pressure ({n} bins \
+                 of width {}, {} bin means, P {p_start})",
+                self.bin_width,
+                self.u_inf_mean.len()
             )));
         }
         let floor = self.floor();

@@ -59,6 +59,13 @@ def rel_l2(sim, sol):
     return math.sqrt(num / den)
 
 
+def own_noise(rows, column):
+    """The targets' own noise in `column`: ||se|| / ||y|| with the ensemble's standard errors,
+    the error a solve that hit the true means would show against these targets."""
+    se = math.sqrt(sum(float(r[column + "_se"]) ** 2 for r in rows))
+    return se / math.sqrt(sum(float(r[column]) ** 2 for r in rows))
+
+
 def plug_errors(rows, solved_mu):
     g = [abs(float(r["gdot"])) for r in rows]
     mu = [float(r["mu"]) for r in rows]
@@ -136,6 +143,7 @@ def evaluate(exe, work, family, rows_by_scene, models, train, results):
                 sol = {c: [float(p[c]) for p in prof] for c in ("u", "phi_loc", "mu")}
                 sim = {c: [float(r[c]) for r in rows] for c in ("u", "phi_loc", "mu")}
                 entry.update({c: rel_l2(sim[c], sol[c]) for c in sim})
+                entry.update({c + "_noise": own_noise(rows, c) for c in sim})
                 mean_abs, centre, nplug = plug_errors(rows, sol["mu"])
                 entry.update({"plug_mu_abs": mean_abs, "plug_centre_mu_abs": centre,
                               "plug_bins": nplug, "iterations": summary["iterations"],
@@ -250,6 +258,21 @@ def write_report(args, results, checks, mappings):
             lines.append(f"- {r['scene']} did not converge: {r['error']}")
         if failed:
             lines.append("")
+    noisy = [r for r in results if r["closure"] == CLOSURES[0] and "u_noise" in r]
+    if noisy:
+        lines += ["## The targets' own noise", "",
+                  "Per family, the mean over its scenes of `||se|| / ||y||` with the "
+                  "ensemble's standard errors (%): what a solve that hit the true means would "
+                  "score against these targets.", "",
+                  "| family | u % | phi_loc % | mu % |", "|---|---|---|---|"]
+        for fam in OrderedDict.fromkeys(r["family"] for r in noisy):
+            rs = [r for r in noisy if r["family"] == fam]
+            m = lambda k: sum(r[k] for r in rs) / len(rs)
+            lines.append(f"| `{fam}` | {fmt(m('u_noise'))} | {fmt(m('phi_loc_noise'))} | "
+                         f"{fmt(m('mu_noise'))} |")
+        m = lambda k: sum(r[k] for r in noisy) / len(noisy)
+        lines += [f"| **all** | {fmt(m('u_noise'))} | {fmt(m('phi_loc_noise'))} | "
+                  f"{fmt(m('mu_noise'))} |", ""]
     if mappings:
         lines += ["## The mappings themselves on the held-out rows", "",
                   "From the measured features (not a solve), the same held-out families and "

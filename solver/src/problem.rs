@@ -16,7 +16,7 @@ pub struct ProfileProblem {
     /// The simulation's drag acts on each particle at its own `u_inf(y)`, and its Delta_v
     /// averages `u_inf` over the bin's particles (docs/physics.md section 6); where the
     /// forcing curves within a bin (a sharp band: 0.0729 at the centre, 0.0638 averaged, in
-    /// the first bin of plugs_000) the centre value overstates the drag by 20 %.
+    /// the first bin of plugs_000) the centre value overstates the simulated drag by 17 %.
     pub u_inf_mean: Vec<f64>,
     /// Bin width (a).
     pub bin_width: f64,
@@ -29,11 +29,10 @@ pub struct ProfileProblem {
 }
 
 impl ProfileProblem {
-    /// The scene's forcing `u_inf(y)` at its bin centres and averaged over its bins, with
-    /// the drag coefficient
-    /// `c = 6 pi eta <a> / <V_p>` of its particle mix (Stokes drag per particle over mean
-    /// particle volume, thesis eq 3.5). A scene of homogeneous shear has no forcing profile
-    /// and is refused.
+    /// The scene's forcing `u_inf(y)` at its bin centres and averaged over its bins, with the
+    /// drag coefficient `c = 6 pi eta <a> / <V_p>` of its particle mix (Stokes drag per
+    /// particle over mean particle volume, thesis eq 3.5). A scene of homogeneous shear has
+    /// no forcing profile and is refused.
     pub fn from_scene(scene: &Scene) -> Result<Self> {
         if scene.shear_rate().is_some() {
             return Err(SolverError::InvalidArgument(

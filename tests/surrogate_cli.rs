@@ -1228,7 +1228,10 @@ fn cross_validate_compares_trees_backbone_and_both_on_held_out_families() {
         (reported - mean_absolute).abs() < 1e-12,
         "{reported} vs {mean_absolute}"
     );
+    // A table without standard errors has no noise to report, and the report says none.
+    assert!(cv["target_noise"].is_null(), "{}", cv["target_noise"]);
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(!report.contains("own noise"), "{report}");
     for needle in [
         "## Mapping `dv`",
         "| phi_loc | backbone alone |",

@@ -15,8 +15,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use surrogate::{
-    family_names, profile_names, Dataset, FamilyCv, Mapping, MeanErrors, RowErrors, Samples,
-    TableKind, TrainedModel, Variant,
+    family_names, output_standard_errors, profile_names, Dataset, FamilyCv, Mapping, MeanErrors,
+    RowErrors, Samples, TableKind, TrainedModel, Variant,
 };
 
 use crate::surrogate_text::{describe, percent, warn_skipped};
@@ -94,13 +94,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             describe(&params)
         );
         let finished = AtomicUsize::new(0);
-        let cv = FamilyCv::run(mapping, &samples, &params, &|fold| {
-            let k = finished.fetch_add(1, Ordering::Relaxed) + 1;
-            eprintln!(
-                "  {} [{k}/{n}] left out `{}`: {} rows",
-                mapping.name, fold.family, fold.variants[0].all.rows
-            );
-        })
+        let standard_errors = output_standard_errors(&dataset, &samples)?;
+        let cv = FamilyCv::run(
+            mapping,
+            &samples,
+            standard_errors.as_ref(),
+            &params,
+            &|fold| {
+                let k = finished.fetch_add(1, Ordering::Relaxed) + 1;
+                eprintln!(
+                    "  {} [{k}/{n}] left out `{}`: {} rows",
+                    mapping.name, fold.family, fold.variants[0].all.rows
+                );
+            },
+        )
         .with_context(|| format!("cross-validating `{}`", mapping.name))?;
         results.push(cv);
     }
@@ -198,13 +205,28 @@ fn mapping_section(md: &mut String, cv: &FamilyCv) {
             );
         }
     }
+    if let Some(noise) = &cv.target_noise {
+        for (j, output) in cv.outputs.iter().enumerate() {
+            let _ = writeln!(
+                md,
+                "| {output} | the targets' own noise | {} | | | |",
+                percent(noise[j])
+            );
+        }
+    }
     md.push('\n');
+    if cv.target_noise.is_some() {
+        md.push_str(
+            "The targets' own noise: eq 6.6 of the held-out targets shifted by their standard \
+             errors (`<output>_se`), what a model that predicts the true means would score.\n\n",
+        );
+    }
     for (j, output) in cv.outputs.iter().enumerate() {
         let labels: Vec<&str> = Variant::ALL.iter().map(|v| v.label()).collect();
         let _ = writeln!(
             md,
             "### `{output}` by held-out family (all / in / out)\n\n\
-             | family | rows (in / out) | {} | abs, all ({}) |\n|---|---|{}---|",
+             | family | rows (in / out) | {} | abs, all ({}) | noise |\n|---|---|{}---|---|",
             labels.join(" | "),
             labels.join(" / "),
             "---|".repeat(labels.len())
@@ -228,13 +250,16 @@ fn mapping_section(md: &mut String, cv: &FamilyCv) {
                 .collect();
             let _ = writeln!(
                 md,
-                "| `{}` | {} ({} / {}) | {} | {} |",
+                "| `{}` | {} ({} / {}) | {} | {} | {} |",
                 fold.family.replace('|', "\\|"),
                 v0.all.rows,
                 v0.in_domain.rows,
                 v0.out_of_domain.rows,
                 cells.join(" | "),
-                absolute.join(" / ")
+                absolute.join(" / "),
+                fold.target_noise
+                    .as_ref()
+                    .map_or_else(|| "-".to_owned(), |n| percent(n[j]))
             );
         }
         md.push('\n');

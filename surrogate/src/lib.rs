@@ -64,6 +64,7 @@ pub use validation::family_folds::{
 };
 pub use validation::profile_error::{model_errors, relative_l2};
 pub use validation::profile_rows::{gain_shares, records, theta_vs_dv, Lower, Record, ThetaVsDv};
+pub use validation::target_noise::{output_standard_errors, target_noise};
 pub use validation::timing::{time_mapping, timed_fit, Timing, FITS};
 pub use validation::training_overlap::{overlap_warning, training_samples};
 pub use validation::tuning::{standard_grid, Tuning};

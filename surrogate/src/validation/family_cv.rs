@@ -23,6 +23,7 @@ use crate::models::metrics::relative_l2_error;
 use crate::models::model::TrainedModel;
 use crate::rheology::backbone::Backbone;
 use crate::validation::family_folds::{leave_one_family_out, FamilyFold};
+use crate::validation::target_noise::target_noise;
 
 /// One way of predicting the outputs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -85,6 +86,10 @@ pub struct FoldErrors {
     pub train_rows: usize,
     /// One entry per variant, in [`Variant::ALL`] order.
     pub variants: Vec<VariantErrors>,
+    /// The held-out targets' own noise per output on all held-out rows
+    /// ([`crate::validation::target_noise`], the fold's scaling); `None` without standard
+    /// errors.
+    pub target_noise: Option<Vec<f64>>,
 }
 
 /// Mean over the held-out families of one class's errors.
@@ -122,26 +127,32 @@ pub struct FamilyCv {
     pub folds: Vec<FoldErrors>,
     /// One entry per variant, in [`Variant::ALL`] order.
     pub summary: Vec<VariantSummary>,
+    /// Mean over the folds of [`FoldErrors::target_noise`].
+    pub target_noise: Option<Vec<f64>>,
 }
 
 impl FamilyCv {
-    /// Runs the comparison on `samples` (which need at least two profile families); the
-    /// folds run in parallel on rayon's pool, and `done` is called as each one finishes.
+    /// Runs the comparison on `samples` (which need at least two profile families), with the
+    /// targets' standard errors `standard_errors` (rows x outputs, for their own noise) where
+    /// known; the folds run in parallel on rayon's pool, and `done` is called as each one
+    /// finishes.
     pub fn run(
         mapping: &Mapping,
         samples: &Samples,
+        standard_errors: Option<&Array2<f64>>,
         params: &HyperParameters,
         done: &(dyn Fn(&FoldErrors) + Sync),
     ) -> Result<Self> {
         let folds = leave_one_family_out(samples)?
             .par_iter()
             .map(|fold| {
-                let errors = fold_errors(mapping, samples, fold, params).map_err(|e| {
-                    SurrogateError::InvalidArgument(format!(
-                        "holding out profile family `{}`: {e}",
-                        fold.family
-                    ))
-                })?;
+                let errors =
+                    fold_errors(mapping, samples, standard_errors, fold, params).map_err(|e| {
+                        SurrogateError::InvalidArgument(format!(
+                            "holding out profile family `{}`: {e}",
+                            fold.family
+                        ))
+                    })?;
                 done(&errors);
                 Ok(errors)
             })
@@ -161,6 +172,11 @@ impl FamilyCv {
                 }
             })
             .collect();
+        let target_noise = folds
+            .iter()
+            .map(|f| f.target_noise.as_ref())
+            .collect::<Option<Vec<_>>>()
+            .and_then(|n| column_means(&n));
         Ok(FamilyCv {
             mapping: mapping.name.to_owned(),
             outputs: samples.output_names.clone(),
@@ -169,6 +185,7 @@ impl FamilyCv {
             skipped_rows: samples.skipped_rows,
             folds,
             summary,
+            target_noise,
         })
     }
 }
@@ -178,6 +195,7 @@ impl FamilyCv {
 fn fold_errors(
     mapping: &Mapping,
     samples: &Samples,
+    standard_errors: Option<&Array2<f64>>,
     fold: &FamilyFold,
     params: &HyperParameters,
 ) -> Result<FoldErrors> {
@@ -196,6 +214,12 @@ fn fold_errors(
     ];
     let scaling = &trees.meta().scaling;
     let truth = scaling.scale(test.outputs.view())?;
+    let target_noise = standard_errors
+        .map(|se| {
+            let se = se.select(Axis(0), &fold.fold.test);
+            target_noise(scaling, test.outputs.view(), se.view())
+        })
+        .transpose()?;
     // The backbone alone, or why its laws do not fit these rows.
     let law = Backbone::fit(&train).map(|(backbone, _)| backbone);
     let mut variants = Vec::with_capacity(Variant::ALL.len());
@@ -236,6 +260,7 @@ fn fold_errors(
         family: fold.family.clone(),
         train_rows: train.n_rows(),
         variants,
+        target_noise,
     })
 }
 
@@ -270,12 +295,7 @@ fn row_errors(
 fn mean_errors<'a>(errors: impl Iterator<Item = &'a RowErrors> + Clone) -> MeanErrors {
     let mean = |pick: fn(&RowErrors) -> Option<&Vec<f64>>| {
         let present: Vec<&Vec<f64>> = errors.clone().filter_map(pick).collect();
-        let per_output = present.first().map(|first| {
-            (0..first.len())
-                .map(|j| present.iter().map(|e| e[j]).sum::<f64>() / present.len() as f64)
-                .collect()
-        });
-        (present.len(), per_output)
+        (present.len(), column_means(&present))
     };
     let (families, per_output) = mean(|e| e.per_output.as_ref());
     let (_, mean_absolute) = mean(|e| e.mean_absolute.as_ref());
@@ -284,6 +304,15 @@ fn mean_errors<'a>(errors: impl Iterator<Item = &'a RowErrors> + Clone) -> MeanE
         per_output,
         mean_absolute,
     }
+}
+
+/// The mean of each entry over `rows` (all of one length); `None` without rows.
+fn column_means(rows: &[&Vec<f64>]) -> Option<Vec<f64>> {
+    rows.first().map(|first| {
+        (0..first.len())
+            .map(|j| rows.iter().map(|e| e[j]).sum::<f64>() / rows.len() as f64)
+            .collect()
+    })
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@ pub mod family_cv;
 pub mod family_folds;
 pub mod profile_error;
 pub mod profile_rows;
+pub mod target_noise;
 pub mod timing;
 pub mod training_overlap;
 pub mod tuning;

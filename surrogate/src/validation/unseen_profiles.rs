@@ -8,8 +8,8 @@ use crate::data::dataset::{Dataset, PROFILE_COLUMN};
 use crate::data::mapping::Mapping;
 use crate::data::samples::Samples;
 use crate::error::Result;
-use crate::models::metrics::relative_l2_error;
 use crate::models::model::TrainedModel;
+use crate::validation::target_noise::{output_standard_errors, target_noise};
 
 /// The name under which the errors over all validation rows together are reported.
 pub const ALL_PROFILES: &str = "all";
@@ -102,7 +102,9 @@ impl Validation {
         domain_errors.extend(group_error(IN_DOMAIN, &|i| in_domain[i])?);
         domain_errors.extend(group_error(OUT_OF_DOMAIN, &|i| !in_domain[i])?);
         let predicted = model.predict_features(samples.features.view())?;
-        let target_noise = target_noise(model, dataset, &samples)?;
+        let target_noise = output_standard_errors(dataset, &samples)?
+            .map(|se| target_noise(&model.meta().scaling, samples.outputs.view(), se.view()))
+            .transpose()?;
         Ok(Validation {
             samples,
             profiles,
@@ -113,36 +115,6 @@ impl Validation {
             target_noise,
         })
     }
-}
-
-/// See [`Validation::target_noise`].
-fn target_noise(
-    model: &TrainedModel,
-    dataset: &Dataset,
-    samples: &Samples,
-) -> Result<Option<Vec<f64>>> {
-    let names = dataset.column_names();
-    let mut shifted = samples.outputs.clone();
-    for (j, output) in samples.output_names.iter().enumerate() {
-        let se_name = schema::columns::standard_error(output);
-        if !names.contains(&se_name) {
-            return Ok(None);
-        }
-        let se = dataset.column(&se_name)?;
-        for (i, &row) in samples.data_rows.iter().enumerate() {
-            let e = se[row - 1];
-            if !e.is_finite() {
-                return Ok(None);
-            }
-            shifted[[i, j]] += e;
-        }
-    }
-    let scaling = &model.meta().scaling;
-    let truth = scaling.scale(samples.outputs.view())?;
-    Ok(Some(relative_l2_error(
-        truth.view(),
-        scaling.scale(shifted.view())?.view(),
-    )?))
 }
 
 /// The distinct values of [`PROFILE_COLUMN`], in order of first appearance.

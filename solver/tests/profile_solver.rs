@@ -125,8 +125,9 @@ fn starting_from_the_local_law_solves_what_newton_from_u_inf_does_not() {
     // scene of the shipped tables, 2026-12-03, smoothing 0.3): on plugs_densest_003 (phi
     // 0.60, wide plugs) Newton's method from u = u_inf stalls on the theta trees' facets,
     // while Newton from the local law's solution (the solve's first attempt) converges. On
-    // wide_007 (phi 0.53) with the theta trees that first attempt stalls and the
-    // continuation from the law's solution converges, and says so.
+    // plugs_dense_003 (phi 0.58) with the theta trees that first attempt stalls, so does
+    // the second (Newton from u = u_inf, 6 Jacobians), and the continuation from the law's
+    // solution converges, and says so.
     let table = "datasets/wide_plugs.ensemble.csv";
     let data = Dataset::read_csv(repo(table)).unwrap();
     let law = fit_local_rheology(&data).unwrap();
@@ -139,7 +140,7 @@ fn starting_from_the_local_law_solves_what_newton_from_u_inf_does_not() {
     let s = problem.solve(&nonlocal, Some(&law), 0.1).unwrap();
     assert!(!s.continued);
     check(&s, &problem);
-    let (problem, _) = scene(table, "wide_007");
+    let (problem, _) = scene(table, "plugs_dense_003");
     let s = problem.solve(&nonlocal, Some(&law), 0.1).unwrap();
     assert!(s.continued);
     check(&s, &problem);

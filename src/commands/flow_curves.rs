@@ -78,11 +78,17 @@ const PARTS: [(&str, &str, &str); 4] = [
 
 /// A state's name in the tables.
 fn label(state: &State) -> String {
+    let mixture = mixture_suffix(state.alpha);
     if state.peclet.is_finite() {
-        format!("mu_p = {}, Pe = {:.3e}", state.mu_p, state.peclet)
+        format!("mu_p = {}, Pe = {:.3e}{mixture}", state.mu_p, state.peclet)
     } else {
-        format!("mu_p = {}, non-Brownian", state.mu_p)
+        format!("mu_p = {}, non-Brownian{mixture}", state.mu_p)
     }
+}
+
+/// `, alpha = a` for a mixture's grain share `a`, nothing otherwise.
+fn mixture_suffix(alpha: Option<f64>) -> String {
+    alpha.map_or_else(String::new, |a| format!(", alpha = {a}"))
 }
 
 /// One finished scene: what the table shows of it beside its point on the flow curves.
@@ -171,6 +177,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .thermal
                 .and_then(|t| t.peclet)
                 .unwrap_or(f64::INFINITY),
+            alpha: gs.scene.file.particles.mixture.as_ref().map(|m| m.alpha),
         };
         let green_kubo = green_kubo
             .iter()
@@ -261,34 +268,40 @@ fn peclet_figure(phi: f64) -> String {
 }
 
 /// `eta_r(Pe)` at volume fraction `phi`: the total (pair stresslets) for each friction
-/// coefficient, and the [`PARTS`] of the frictionless (or least frictional) runs; log-log,
-/// non-positive values (a negative part) left out.
+/// coefficient and mixture composition, and the [`PARTS`] of the frictionless (or least
+/// frictional; the first composition) runs; log-log, non-positive values (a negative part)
+/// left out.
 fn draw_peclet_figure(path: &Path, phi: f64, points: &[StatePoint]) -> anyhow::Result<()> {
     let at_phi: Vec<&StatePoint> = points.iter().filter(|p| p.phi == phi).collect();
-    let mut frictions: Vec<f64> = at_phi.iter().map(|p| p.state.mu_p).collect();
-    frictions.sort_by(f64::total_cmp);
-    frictions.dedup();
-    let mut series = Vec::new();
-    for &mu_p in &frictions {
-        let sel: Vec<&StatePoint> = at_phi
+    // One curve per friction coefficient and mixture composition.
+    let mut kinds: Vec<(f64, Option<f64>)> = Vec::new();
+    for p in &at_phi {
+        if !kinds.contains(&(p.state.mu_p, p.state.alpha)) {
+            kinds.push((p.state.mu_p, p.state.alpha));
+        }
+    }
+    kinds.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    let of_kind = |kind: (f64, Option<f64>)| -> Vec<&StatePoint> {
+        at_phi
             .iter()
             .copied()
-            .filter(|p| p.state.mu_p == mu_p)
-            .collect();
+            .filter(|p| (p.state.mu_p, p.state.alpha) == kind)
+            .collect()
+    };
+    let name =
+        |(mu_p, alpha): (f64, Option<f64>)| format!("mu_p = {mu_p}{}", mixture_suffix(alpha));
+    let mut series = Vec::new();
+    for &kind in &kinds {
         series.push(Points {
-            name: format!("eta_r (contact + lubrication), mu_p = {mu_p}"),
-            points: over_seeds(&sel, |p| p.eta_r),
+            name: format!("eta_r (contact + lubrication), {}", name(kind)),
+            points: over_seeds(&of_kind(kind), |p| p.eta_r),
         });
     }
-    if let Some(&mu_p) = frictions.first() {
-        let sel: Vec<&StatePoint> = at_phi
-            .iter()
-            .copied()
-            .filter(|p| p.state.mu_p == mu_p)
-            .collect();
+    if let Some(&kind) = kinds.first() {
+        let sel = of_kind(kind);
         for (q, (_, legend, _)) in PARTS.iter().enumerate() {
             series.push(Points {
-                name: format!("{legend}, mu_p = {mu_p}"),
+                name: format!("{legend}, {}", name(kind)),
                 points: over_seeds(&sel, |p| p.parts[q]),
             });
         }

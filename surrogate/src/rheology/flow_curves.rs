@@ -1,5 +1,6 @@
 //! The flow curves of a grid of homogeneous-shear runs by state (docs/physics.md sections
-//! 10 and 11): the runs grouped into states (friction coefficient, Peclet number), means
+//! 10 and 11): the runs grouped into states (friction coefficient, Peclet number, a
+//! mixture's composition), means
 //! over seeds with standard errors from their spread, the jamming law fitted per state
 //! under each stress convention, and the seeds' Pe -> 0 estimate, the hydrodynamic
 //! viscosity plus the Green-Kubo Brownian one. Plain numbers in: the caller reads the runs.
@@ -12,12 +13,15 @@ use crate::rheology::flow_curve_fit::{FlowCurvePoint, SeededJammingFit};
 use crate::rheology::jamming_law::SEEDS_LAW;
 use crate::rheology::statistics::mean_and_standard_error;
 
-/// A state of the flow curves: friction coefficient and Peclet number (infinite without
-/// Brownian forces).
+/// A state of the flow curves: friction coefficient, Peclet number (infinite without
+/// Brownian forces) and, for a colloid-grain mixture, its grain share of the solid volume
+/// `alpha` (docs/physics.md section 13): runs of two compositions are two curves even at one
+/// volume fraction.
 #[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
 pub struct State {
     pub mu_p: f64,
     pub peclet: f64,
+    pub alpha: Option<f64>,
 }
 
 /// Index in [`StatePoint::parts`] of the hydrodynamic (lubrication) part.
@@ -234,7 +238,11 @@ mod tests {
 
     fn point(peclet: f64, seed: u64, eta_r: f64) -> StatePoint {
         StatePoint {
-            state: State { mu_p: 0.0, peclet },
+            state: State {
+                mu_p: 0.0,
+                peclet,
+                alpha: None,
+            },
             phi: 0.5,
             seed,
             phi_actual: 0.5,
@@ -260,6 +268,27 @@ mod tests {
         let sel: Vec<&StatePoint> = points.iter().collect();
         assert_eq!(over_seeds(&sel, |p| p.eta_r), vec![(10.0, 3.0, 1.0)]);
         assert_eq!(states(&points).len(), 2);
+    }
+
+    /// Two compositions at one volume fraction, friction and Pe are two states, ordered by
+    /// alpha, and a one-species run a third (as reports/mixtures/collapse needs).
+    #[test]
+    fn mixtures_of_two_compositions_are_two_states() {
+        let with = |alpha: Option<f64>| StatePoint {
+            state: State {
+                alpha,
+                ..point(1.0, 1, 2.0).state
+            },
+            ..point(1.0, 1, 2.0)
+        };
+        let points = [
+            with(Some(0.5)),
+            with(Some(0.0)),
+            with(None),
+            with(Some(0.5)),
+        ];
+        let got: Vec<Option<f64>> = states(&points).iter().map(|s| s.alpha).collect();
+        assert_eq!(got, vec![None, Some(0.0), Some(0.5)]);
     }
 
     #[test]

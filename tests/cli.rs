@@ -720,12 +720,14 @@ fn flow_curves_of_a_mixture_tabulate_its_composition_and_peclet_numbers() {
         let kt = value(row, "kT");
         assert!((6.0 * std::f64::consts::PI * 0.01 / kt / pe_c - 1.0).abs() < 1e-9);
     }
-    // Two volume fractions per Peclet number: one sentence instead of a table of failures.
+    // Two volume fractions per Peclet number: one sentence instead of a table of failures,
+    // each state named with its composition.
     let readme = run.readme();
     assert!(
         !readme.contains("Fit of `eta_r")
             && readme.contains(
-                "Not fitted, fewer than 3 volume fractions: mu_p = 0, Pe = 1.000e-1; mu_p = 0, Pe = 1.000e1."
+                "Not fitted, fewer than 3 volume fractions: mu_p = 0, Pe = 1.000e-1, alpha = 1; \
+                 mu_p = 0, Pe = 1.000e1, alpha = 1."
             ),
         "{readme}"
     );

@@ -78,21 +78,21 @@ fn compare_needs_the_scene_in_the_simulated_file() {
 
 #[test]
 fn a_stalled_solve_is_continued_from_the_local_law_and_says_so() {
-    // wide_007 of grids/wide.toml (phi 0.53, a box 60 high): with the shipped theta trees
-    // and Theta balance, Newton's method from the local law's solution stalls on the trees'
-    // facets; the solve follows the continuation from the local law, converges, and records
-    // that it did (a scan of every shipped scene, 2026-12-03, smoothing 0.3: with the
-    // nonlocal closure this, train_000 and train_003 take the continuation). A solve that
-    // stalls every way is an error and writes nothing: solver's tests.
-    let out = scratch("wide_007");
+    // plugs_dense_003 of grids/plugs_dense.toml (phi 0.58, sin^5 forcing, a box 100 high):
+    // with the shipped theta trees and Theta balance, Newton's method from the local law's
+    // solution stalls on the trees' facets, and so does Newton from u = u_inf (the second
+    // attempt); the solve follows the continuation from the local law, converges, and
+    // records that it did (the solver's own test uses the same scene). A solve that stalls
+    // every way is an error and writes nothing: solver's tests.
+    let out = scratch("plugs_dense_003");
     std::fs::create_dir_all(&out).unwrap();
-    let scene = out.join("wide_007.toml");
+    let scene = out.join("plugs_dense_003.toml");
     std::fs::write(
         &scene,
-        "name = \"wide_007\"\n\
-         [box]\nl_x = 17.0\nl_y = 60.0\nl_z = 17.0\n\
-         [particles]\nphi = 0.53\nstokes = 0.09\n\
-         [fluid]\nprofile = \"0.1*sin(4*pi*y/L)\"\n",
+        "name = \"plugs_dense_003\"\n\
+         [box]\nl_x = 17.0\nl_y = 100.0\nl_z = 17.0\n\
+         [particles]\nphi = 0.58\nstokes = 0.09\n\
+         [fluid]\nprofile = \"0.2*sin(8*pi*y/L)^5\"\n",
     )
     .unwrap();
     let solution = out.join("solution");

@@ -675,6 +675,9 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
         // kT from Pe at gdot = 0.01: Pe = 6 pi eta a^3 gdot / kT.
         let kt = value(row, "kT");
         assert!((6.0 * std::f64::consts::PI * 0.01 / kt / pe - 1.0).abs() < 1e-9);
+        // The grid's density and the inertia-diffusion ratio rho kT / (eta^2 a) it sets.
+        assert_eq!(value(row, "rho"), 0.5);
+        assert!((value(row, "tau_i_over_tau_b") / (0.5 * kt) - 1.0).abs() < 1e-9);
         // The box's eta_r is the contact and lubrication parts (identity of the split);
         // the structural Brownian part is positive (a shear-thinning stress) and beside it.
         let parts = value(row, "eta_r_contact") + value(row, "eta_r_hydrodynamic");

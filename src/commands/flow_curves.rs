@@ -76,19 +76,31 @@ const PARTS: [(&str, &str, &str); 4] = [
     ("eta_r_brownian", "structural Brownian", "sigma_xy_brownian"),
 ];
 
-/// A state's name in the tables.
-fn label(state: &State) -> String {
-    let mixture = mixture_suffix(state.alpha);
+/// A state's name in the tables; its density only where `densities` (the runs hold more
+/// than one, [`several_densities`]).
+fn label(state: &State, densities: bool) -> String {
+    let more = curve_suffix(state.alpha, state.rho, densities);
     if state.peclet.is_finite() {
-        format!("mu_p = {}, Pe = {:.3e}{mixture}", state.mu_p, state.peclet)
+        format!("mu_p = {}, Pe = {:.3e}{more}", state.mu_p, state.peclet)
     } else {
-        format!("mu_p = {}, non-Brownian{mixture}", state.mu_p)
+        format!("mu_p = {}, non-Brownian{more}", state.mu_p)
     }
 }
 
-/// `, alpha = a` for a mixture's grain share `a`, nothing otherwise.
-fn mixture_suffix(alpha: Option<f64>) -> String {
-    alpha.map_or_else(String::new, |a| format!(", alpha = {a}"))
+/// `, alpha = a` for a mixture's grain share `a`, then `, rho = r` where `densities`;
+/// nothing for one-species runs at the grid's one density.
+fn curve_suffix(alpha: Option<f64>, rho: f64, densities: bool) -> String {
+    let mut suffix = alpha.map_or_else(String::new, |a| format!(", alpha = {a}"));
+    if densities {
+        let _ = write!(suffix, ", rho = {rho}");
+    }
+    suffix
+}
+
+/// Whether the runs were made at more than one particle density (e.g. a scan of the
+/// inertia-diffusion ratio, grids/brownian_inertia.toml).
+fn several_densities(points: &[StatePoint]) -> bool {
+    points.iter().any(|p| p.state.rho != points[0].state.rho)
 }
 
 /// One finished scene: what the table shows of it beside its point on the flow curves.
@@ -98,6 +110,8 @@ struct FlowPoint {
     rheology: ShearRheology,
     /// Thermal energy (0 without Brownian forces).
     kt: f64,
+    /// `tau_I / tau_B = rho kT / (eta^2 a)` of a Brownian scene.
+    inertia_diffusion: Option<f64>,
     point: StatePoint,
 }
 
@@ -178,6 +192,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .and_then(|t| t.peclet)
                 .unwrap_or(f64::INFINITY),
             alpha: gs.scene.file.particles.mixture.as_ref().map(|m| m.alpha),
+            rho: gs.scene.rho,
         };
         let green_kubo = green_kubo
             .iter()
@@ -201,6 +216,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             summary,
             rheology,
             kt: gs.scene.file.fluid.kt,
+            inertia_diffusion: gs.scene.thermal.map(|t| t.inertia_diffusion),
         });
     }
     if !missing.is_empty() {
@@ -268,28 +284,31 @@ fn peclet_figure(phi: f64) -> String {
 }
 
 /// `eta_r(Pe)` at volume fraction `phi`: the total (pair stresslets) for each friction
-/// coefficient and mixture composition, and the [`PARTS`] of the frictionless (or least
-/// frictional; the first composition) runs; log-log, non-positive values (a negative part)
+/// coefficient, mixture composition and particle density, and the [`PARTS`] of the
+/// frictionless (or least frictional; the first composition, the lightest) runs; log-log, non-positive values (a negative part)
 /// left out.
 fn draw_peclet_figure(path: &Path, phi: f64, points: &[StatePoint]) -> anyhow::Result<()> {
     let at_phi: Vec<&StatePoint> = points.iter().filter(|p| p.phi == phi).collect();
-    // One curve per friction coefficient and mixture composition.
-    let mut kinds: Vec<(f64, Option<f64>)> = Vec::new();
+    // One curve per friction coefficient, mixture composition and density.
+    let kind_of = |p: &StatePoint| (p.state.mu_p, p.state.alpha, p.state.rho);
+    let mut kinds: Vec<(f64, Option<f64>, f64)> = Vec::new();
     for p in &at_phi {
-        if !kinds.contains(&(p.state.mu_p, p.state.alpha)) {
-            kinds.push((p.state.mu_p, p.state.alpha));
+        if !kinds.contains(&kind_of(p)) {
+            kinds.push(kind_of(p));
         }
     }
     kinds.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-    let of_kind = |kind: (f64, Option<f64>)| -> Vec<&StatePoint> {
+    let of_kind = |kind: (f64, Option<f64>, f64)| -> Vec<&StatePoint> {
         at_phi
             .iter()
             .copied()
-            .filter(|p| (p.state.mu_p, p.state.alpha) == kind)
+            .filter(|p| kind_of(p) == kind)
             .collect()
     };
-    let name =
-        |(mu_p, alpha): (f64, Option<f64>)| format!("mu_p = {mu_p}{}", mixture_suffix(alpha));
+    let densities = several_densities(points);
+    let name = |(mu_p, alpha, rho): (f64, Option<f64>, f64)| {
+        format!("mu_p = {mu_p}{}", curve_suffix(alpha, rho, densities))
+    };
     let mut series = Vec::new();
     for &kind in &kinds {
         series.push(Points {
@@ -345,12 +364,13 @@ fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
     for (name, _, _) in PARTS {
         let _ = write!(out, ",{name},{name}_se");
     }
-    out.push_str(",alpha,alpha_actual,peclet_c,peclet_cg\n");
+    out.push_str(",alpha,alpha_actual,peclet_c,peclet_cg,rho,tau_i_over_tau_b\n");
     for FlowPoint {
         id,
         summary,
         rheology: r,
         kt,
+        inertia_diffusion,
         point: p,
     } in points
     {
@@ -382,11 +402,13 @@ fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
         let c = summary.composition;
         let _ = writeln!(
             out,
-            ",{},{},{},{}",
+            ",{},{},{},{},{},{}",
             show(c.map(|c| c.alpha)),
             show(c.map(|c| c.alpha_actual)),
             show(c.and_then(|c| c.peclet_c)),
-            show(c.and_then(|c| c.peclet_cg))
+            show(c.and_then(|c| c.peclet_cg)),
+            p.state.rho,
+            show(*inertia_diffusion)
         );
     }
     Ok(write_atomic(path, out.as_bytes())?)
@@ -465,6 +487,7 @@ fn summary_text(
     fits: &[StateFits],
     local: Option<&[LocalBand]>,
 ) -> String {
+    let densities = several_densities(points);
     let mut s = String::from("# Flow curves of homogeneous simple shear\n\n");
     let _ = writeln!(
         s,
@@ -504,7 +527,7 @@ fn summary_text(
             let _ = writeln!(
                 s,
                 "| {} | {phi:.4} | {} | {eta:.2} ± {eta_se:.2} | {} | {} | {:.2} | {:.2} | {mu:.3} ± {mu_se:.3} | {j:.4} ± {j_se:.4} |",
-                label(&f.state),
+                label(&f.state, densities),
                 row.seeds,
                 show(row.eta_r_bins),
                 parts.join(" | "),
@@ -530,7 +553,7 @@ fn summary_text(
             .copied()
             .collect();
         if volume_fractions(&of_state).len() < MIN_VOLUME_FRACTIONS {
-            unfitted.push(label(&f.state));
+            unfitted.push(label(&f.state, densities));
             continue;
         }
         for ((name, value), fit) in CONVENTIONS.iter().zip(&f.fits) {
@@ -548,7 +571,7 @@ fn summary_text(
                     let _ = writeln!(
                         rows,
                         "| {} | {name} | {:.4} ± {:.4} | {:.3} ± {:.3} | {} |",
-                        label(&f.state),
+                        label(&f.state, densities),
                         fit.all.phi_j,
                         fit.phi_j_se,
                         fit.all.lambda,
@@ -560,7 +583,7 @@ fn summary_text(
                     let _ = writeln!(
                         rows,
                         "| {} | {name} | not fitted: {e} | | |",
-                        label(&f.state)
+                        label(&f.state, densities)
                     );
                 }
             }

@@ -14,14 +14,17 @@ use crate::rheology::jamming_law::SEEDS_LAW;
 use crate::rheology::statistics::mean_and_standard_error;
 
 /// A state of the flow curves: friction coefficient, Peclet number (infinite without
-/// Brownian forces) and, for a colloid-grain mixture, its grain share of the solid volume
-/// `alpha` (docs/physics.md section 13): runs of two compositions are two curves even at one
+/// Brownian forces), for a colloid-grain mixture its grain share of the solid volume
+/// `alpha` (docs/physics.md section 13), and the particle density `rho`, which with the
+/// thermal energy sets the inertia-diffusion ratio `tau_I / tau_B = rho kT / (eta^2 a)`
+/// (section 11): runs of two compositions or two densities are two curves even at one
 /// volume fraction.
 #[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
 pub struct State {
     pub mu_p: f64,
     pub peclet: f64,
     pub alpha: Option<f64>,
+    pub rho: f64,
 }
 
 /// Index in [`StatePoint::parts`] of the hydrodynamic (lubrication) part.
@@ -101,7 +104,8 @@ pub const CONVENTIONS: [Convention; 4] = [
     ),
 ];
 
-/// The distinct states of `points`, ordered by friction, then Peclet number.
+/// The distinct states of `points`, ordered by friction, then Peclet number, composition
+/// and density.
 pub fn states(points: &[StatePoint]) -> Vec<State> {
     let mut states: Vec<State> = Vec::new();
     for p in points {
@@ -242,6 +246,7 @@ mod tests {
                 mu_p: 0.0,
                 peclet,
                 alpha: None,
+                rho: 1.0,
             },
             phi: 0.5,
             seed,
@@ -289,6 +294,27 @@ mod tests {
         ];
         let got: Vec<Option<f64>> = states(&points).iter().map(|s| s.alpha).collect();
         assert_eq!(got, vec![None, Some(0.0), Some(0.5)]);
+    }
+
+    /// Two particle densities at one volume fraction, friction and Pe (two inertia-diffusion
+    /// ratios) are two states, ordered by density.
+    #[test]
+    fn runs_at_two_densities_are_two_states() {
+        let with = |rho: f64, seed: u64, eta_r: f64| StatePoint {
+            state: State {
+                rho,
+                ..point(1.0, seed, eta_r).state
+            },
+            ..point(1.0, seed, eta_r)
+        };
+        let points = [
+            with(0.5, 1, 4.0),
+            with(0.05, 1, 4.4),
+            with(0.5, 2, 4.2),
+            with(0.05, 2, 4.6),
+        ];
+        let got: Vec<f64> = states(&points).iter().map(|s| s.rho).collect();
+        assert_eq!(got, vec![0.05, 0.5]);
     }
 
     #[test]

@@ -18,6 +18,9 @@ pub const SEEDS_LAW: JammingLaw = JammingLaw {
 
 /// Largest `phi_J` searched: random close packing of bidisperse spheres lies below it.
 const PHI_J_MAX: f64 = 0.74;
+/// A fitted `phi_J` this close to [`PHI_J_MAX`] is the search's edge, not a minimum: the
+/// points show no divergence below it.
+const PHI_J_EDGE: f64 = 1e-3;
 /// Distinct volume fractions the fit of the law's two parameters needs.
 pub const MIN_VOLUME_FRACTIONS: usize = 3;
 
@@ -69,7 +72,9 @@ impl JammingLaw {
     }
 
     /// Least-squares fit (see the module notes) to at least three points with distinct
-    /// `phi` in (0, PHI_J_MAX) and `eta_r > 1`.
+    /// `phi` in (0, PHI_J_MAX) and `eta_r > 1`; an error where the best `phi_J` is the
+    /// search's upper edge (points that do not rise like a divergence below it, e.g. a
+    /// viscosity that falls with `phi` between two of them).
     pub fn fit(phi: &[f64], eta_r: &[f64]) -> Result<JammingLaw> {
         if let Some(k) =
             (0..phi.len()).find(|&k| !(phi[k] > 0.0 && phi[k] < PHI_J_MAX && eta_r[k] > 1.0))
@@ -101,6 +106,18 @@ impl JammingLaw {
             PHI_J_MAX,
             "fitting phi_J of the jamming law",
         )?;
+        if phi_j > PHI_J_MAX - PHI_J_EDGE {
+            let points: Vec<String> = phi
+                .iter()
+                .zip(eta_r)
+                .map(|(phi, eta_r)| format!("{eta_r:.2} at {phi:.3}"))
+                .collect();
+            return Err(SurrogateError::InvalidArgument(format!(
+                "phi_J runs to the edge of its search ({PHI_J_MAX}): eta_r = {} does not \
+                 diverge below it",
+                points.join(", ")
+            )));
+        }
         Ok(JammingLaw {
             phi_j,
             lambda: cost.lambda(phi_j),
@@ -145,5 +162,13 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(message.contains("eta_r = 0.5"), "{message}");
+        // A viscosity flat between the two lower volume fractions (the Green-Kubo estimate
+        // of reports/brownian at phi 0.45 and 0.50) has its least-squares phi_J at the
+        // search's edge: refused, not reported as 0.74.
+        let message = JammingLaw::fit(&[0.45, 0.5, 0.55], &[11.95, 12.5, 30.4])
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("edge of its search"), "{message}");
+        assert!(message.contains("12.50 at 0.500"), "{message}");
     }
 }

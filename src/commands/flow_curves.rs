@@ -29,8 +29,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use surrogate::rheology::local_viscosity::{self, LocalBand};
 use surrogate::{
-    bin_viscosity, over_seeds, part_viscosity, state_rows, states, volume_fractions, Dataset,
-    JammingLaw, State, StateFits, StatePoint, CONVENTIONS, MIN_VOLUME_FRACTIONS, SEEDS_LAW,
+    bin_viscosity, keep_green_kubo_at_lowest_peclet, over_seeds, part_viscosity, state_rows,
+    states, volume_fractions, Dataset, JammingLaw, State, StateFits, StatePoint, CONVENTIONS,
+    MIN_VOLUME_FRACTIONS, SEEDS_LAW,
 };
 
 /// Centres of the `phi_loc` bands of the local-versus-homogeneous table.
@@ -50,7 +51,8 @@ pub struct Args {
     local: Option<PathBuf>,
     /// Output directories of `suspflow green-kubo` (one per volume fraction): adds the fit
     /// of the seeds' Pe -> 0 estimate, the hydrodynamic viscosity (lubrication and drag)
-    /// plus the Green-Kubo Brownian viscosity at the same volume fraction.
+    /// at each curve's lowest Peclet number plus the Green-Kubo Brownian viscosity at the
+    /// same volume fraction.
     #[arg(long, num_args = 1..)]
     green_kubo: Vec<PathBuf>,
     /// Output directory: flow_curves.csv, eta_r.svg, mu_J.svg, README.md.
@@ -230,7 +232,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             missing.join(", ")
         );
     }
-    let curve: Vec<StatePoint> = points.iter().map(|p| p.point).collect();
+    let mut curve: Vec<StatePoint> = points.iter().map(|p| p.point).collect();
+    keep_green_kubo_at_lowest_peclet(&mut curve);
     let fits: Vec<StateFits> = states(&curve)
         .into_iter()
         .map(|state| StateFits::fit(&curve, state))
@@ -596,7 +599,7 @@ fn summary_text(
     if unavailable {
         s.push_str(
             "\nStresses not measured for a state (the Green-Kubo Brownian viscosity without \
-             `--green-kubo`) have no row.\n",
+             `--green-kubo`, or above a curve's lowest Peclet number) have no row.\n",
         );
     }
     if !unfitted.is_empty() {

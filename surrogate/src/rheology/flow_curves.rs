@@ -87,6 +87,31 @@ impl StatePoint {
     }
 }
 
+/// Keeps the Green-Kubo viscosity of each point only at the lowest Peclet number of its
+/// curve (the points of equal friction, composition and density): the seeds' construction
+/// ([`StatePoint::eta_r_hydrodynamic_green_kubo`]) is a Pe -> 0 estimate, the
+/// hydrodynamic viscosity at the lowest Pe plus the unsheared suspension's Brownian one,
+/// and means nothing beside the sheared stress of higher Peclet numbers.
+pub fn keep_green_kubo_at_lowest_peclet(points: &mut [StatePoint]) {
+    let same_curve =
+        |a: &State, b: &State| a.mu_p == b.mu_p && a.alpha == b.alpha && a.rho == b.rho;
+    let lowest: Vec<f64> = points
+        .iter()
+        .map(|p| {
+            points
+                .iter()
+                .filter(|q| same_curve(&q.state, &p.state))
+                .map(|q| q.state.peclet)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    for (p, lowest) in points.iter_mut().zip(lowest) {
+        if p.state.peclet > lowest {
+            p.green_kubo = None;
+        }
+    }
+}
+
 /// A stress convention: its name, and the `eta_r` of a point under it.
 pub type Convention = (&'static str, fn(&StatePoint) -> (f64, f64));
 
@@ -315,6 +340,30 @@ mod tests {
         ];
         let got: Vec<f64> = states(&points).iter().map(|s| s.rho).collect();
         assert_eq!(got, vec![0.05, 0.5]);
+    }
+
+    #[test]
+    fn the_green_kubo_viscosity_stays_at_each_curves_lowest_peclet_number() {
+        let mut points: Vec<StatePoint> = [0.1, 1.0, 0.1]
+            .into_iter()
+            .map(|pe| {
+                let mut p = point(pe, 1, 5.0);
+                p.green_kubo = Some((3.0, 0.5));
+                p
+            })
+            .collect();
+        // A curve of its own (another density) whose lowest Pe is 1.
+        points.push(StatePoint {
+            state: State {
+                rho: 0.05,
+                ..points[1].state
+            },
+            ..points[1]
+        });
+        keep_green_kubo_at_lowest_peclet(&mut points);
+        let kept: Vec<bool> = points.iter().map(|p| p.green_kubo.is_some()).collect();
+        assert_eq!(kept, [true, false, true, true]);
+        assert!(points[1].eta_r_hydrodynamic_green_kubo().0.is_nan());
     }
 
     #[test]

@@ -30,8 +30,8 @@ use std::path::{Path, PathBuf};
 use surrogate::rheology::local_viscosity::{self, LocalBand};
 use surrogate::{
     bin_viscosity, keep_green_kubo_at_lowest_peclet, over_seeds, part_viscosity, state_rows,
-    states, volume_fractions, Dataset, JammingLaw, State, StateFits, StatePoint, CONVENTIONS,
-    MIN_VOLUME_FRACTIONS, SEEDS_LAW,
+    states, volume_fractions, Curve, Dataset, JammingLaw, State, StateFits, StatePoint,
+    CONVENTIONS, MIN_VOLUME_FRACTIONS, SEEDS_LAW,
 };
 
 /// Centres of the `phi_loc` bands of the local-versus-homogeneous table.
@@ -293,15 +293,15 @@ fn peclet_figure(phi: f64) -> String {
 fn draw_peclet_figure(path: &Path, phi: f64, points: &[StatePoint]) -> anyhow::Result<()> {
     let at_phi: Vec<&StatePoint> = points.iter().filter(|p| p.phi == phi).collect();
     // One curve per friction coefficient, mixture composition and density.
-    let kind_of = |p: &StatePoint| (p.state.mu_p, p.state.alpha, p.state.rho);
-    let mut kinds: Vec<(f64, Option<f64>, f64)> = Vec::new();
+    let kind_of = |p: &StatePoint| p.state.curve();
+    let mut kinds: Vec<Curve> = Vec::new();
     for p in &at_phi {
         if !kinds.contains(&kind_of(p)) {
             kinds.push(kind_of(p));
         }
     }
     kinds.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-    let of_kind = |kind: (f64, Option<f64>, f64)| -> Vec<&StatePoint> {
+    let of_kind = |kind: Curve| -> Vec<&StatePoint> {
         at_phi
             .iter()
             .copied()
@@ -309,9 +309,8 @@ fn draw_peclet_figure(path: &Path, phi: f64, points: &[StatePoint]) -> anyhow::R
             .collect()
     };
     let densities = several_densities(points);
-    let name = |(mu_p, alpha, rho): (f64, Option<f64>, f64)| {
-        format!("mu_p = {mu_p}{}", curve_suffix(alpha, rho, densities))
-    };
+    let name =
+        |(mu_p, alpha, rho): Curve| format!("mu_p = {mu_p}{}", curve_suffix(alpha, rho, densities));
     let mut series = Vec::new();
     for &kind in &kinds {
         series.push(Points {

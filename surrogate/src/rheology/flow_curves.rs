@@ -27,6 +27,16 @@ pub struct State {
     pub rho: f64,
 }
 
+/// What names a curve over the Peclet number: friction coefficient, composition, density.
+pub type Curve = (f64, Option<f64>, f64);
+
+impl State {
+    /// The curve over the Peclet number this state lies on.
+    pub fn curve(&self) -> Curve {
+        (self.mu_p, self.alpha, self.rho)
+    }
+}
+
 /// Index in [`StatePoint::parts`] of the hydrodynamic (lubrication) part.
 const HYDRODYNAMIC: usize = 1;
 /// Index of the one-body drag part.
@@ -93,14 +103,12 @@ impl StatePoint {
 /// hydrodynamic viscosity at the lowest Pe plus the unsheared suspension's Brownian one,
 /// and means nothing beside the sheared stress of higher Peclet numbers.
 pub fn keep_green_kubo_at_lowest_peclet(points: &mut [StatePoint]) {
-    let same_curve =
-        |a: &State, b: &State| a.mu_p == b.mu_p && a.alpha == b.alpha && a.rho == b.rho;
     let lowest: Vec<f64> = points
         .iter()
         .map(|p| {
             points
                 .iter()
-                .filter(|q| same_curve(&q.state, &p.state))
+                .filter(|q| q.state.curve() == p.state.curve())
                 .map(|q| q.state.peclet)
                 .fold(f64::INFINITY, f64::min)
         })

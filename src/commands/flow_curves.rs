@@ -29,8 +29,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use surrogate::rheology::local_viscosity::{self, LocalBand};
 use surrogate::{
-    bin_viscosity, keep_green_kubo_at_lowest_peclet, over_seeds, part_viscosity, state_rows,
-    states, volume_fractions, Curve, Dataset, JammingLaw, State, StateFits, StatePoint,
+    bin_viscosity, green_kubo_at, keep_green_kubo_at_lowest_peclet, over_seeds, part_viscosity,
+    state_rows, states, volume_fractions, Curve, Dataset, JammingLaw, State, StateFits, StatePoint,
     CONVENTIONS, MIN_VOLUME_FRACTIONS, SEEDS_LAW,
 };
 
@@ -49,10 +49,11 @@ pub struct Args {
     /// (e.g. datasets/train.csv).
     #[arg(long)]
     local: Option<PathBuf>,
-    /// Output directories of `suspflow green-kubo` (one per volume fraction): adds the fit
-    /// of the seeds' Pe -> 0 estimate, the hydrodynamic viscosity (lubrication and drag)
-    /// at each curve's lowest Peclet number plus the Green-Kubo Brownian viscosity at the
-    /// same volume fraction.
+    /// Output directories of `suspflow green-kubo` (one or more replicas per volume
+    /// fraction): adds the fit of the seeds' Pe -> 0 estimate, the hydrodynamic viscosity
+    /// (lubrication and drag) at each curve's lowest Peclet number plus the Green-Kubo
+    /// Brownian viscosity at the same volume fraction (the mean over its replicas, with the
+    /// standard error from their spread; one run's block error when it is alone).
     #[arg(long, num_args = 1..)]
     green_kubo: Vec<PathBuf>,
     /// Output directory: flow_curves.csv, eta_r.svg, mu_J.svg, README.md.
@@ -128,18 +129,21 @@ struct GreenKuboResult {
     eta_brownian_over_eta_se: f64,
 }
 
-/// Largest difference of realised volume fractions for a Green-Kubo result to belong to
-/// a flow-curve point (the same box and phi give the same count of spheres).
-const GREEN_KUBO_PHI_MATCH: f64 = 1e-3;
-
-fn read_green_kubo(dirs: &[PathBuf]) -> anyhow::Result<Vec<GreenKuboResult>> {
+/// Each directory's result as `(phi_actual, eta_B / eta, its error)`.
+fn read_green_kubo(dirs: &[PathBuf]) -> anyhow::Result<Vec<(f64, f64, f64)>> {
     dirs.iter()
         .map(|d| {
             let path = d.join("green_kubo.json");
             let text = std::fs::read_to_string(&path).with_context(|| {
                 format!("reading {} (a `suspflow green-kubo` --out)", path.display())
             })?;
-            serde_json::from_str(&text).with_context(|| format!("reading {}", path.display()))
+            let g: GreenKuboResult = serde_json::from_str(&text)
+                .with_context(|| format!("reading {}", path.display()))?;
+            Ok((
+                g.phi_actual,
+                g.eta_brownian_over_eta,
+                g.eta_brownian_over_eta_se,
+            ))
         })
         .collect()
 }
@@ -196,10 +200,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             alpha: gs.scene.file.particles.mixture.as_ref().map(|m| m.alpha),
             rho: gs.scene.rho,
         };
-        let green_kubo = green_kubo
-            .iter()
-            .find(|g| (g.phi_actual - summary.phi_actual).abs() < GREEN_KUBO_PHI_MATCH)
-            .map(|g| (g.eta_brownian_over_eta, g.eta_brownian_over_eta_se));
+        let green_kubo = green_kubo_at(&green_kubo, summary.phi_actual);
         let estimate = |e: Estimate| (e.mean, e.se);
         points.push(FlowPoint {
             id: gs.id.clone(),

@@ -97,6 +97,23 @@ impl StatePoint {
     }
 }
 
+/// Largest difference of realised volume fractions for a Green-Kubo result to belong to
+/// a flow-curve point (the same box and phi give the same count of spheres).
+const GREEN_KUBO_PHI_MATCH: f64 = 1e-3;
+
+/// The Green-Kubo Brownian viscosity (in units of the fluid's) at the realised volume
+/// fraction `phi_actual`, from `replicas` of `(phi_actual, eta_B / eta, its error)`: the
+/// [`seed_mean`] of those within [`GREEN_KUBO_PHI_MATCH`] (the spread of independent
+/// replicas; one run's block error when it is alone), `None` without any.
+pub fn green_kubo_at(replicas: &[(f64, f64, f64)], phi_actual: f64) -> Option<(f64, f64)> {
+    let here: Vec<(f64, f64)> = replicas
+        .iter()
+        .filter(|(phi, _, _)| (phi - phi_actual).abs() < GREEN_KUBO_PHI_MATCH)
+        .map(|&(_, eta, se)| (eta, se))
+        .collect();
+    (!here.is_empty()).then(|| seed_mean(&here))
+}
+
 /// Keeps the Green-Kubo viscosity of each point only at the lowest Peclet number of its
 /// curve (the points of equal friction, composition and density): the seeds' construction
 /// ([`StatePoint::eta_r_hydrodynamic_green_kubo`]) is a Pe -> 0 estimate, the
@@ -372,6 +389,21 @@ mod tests {
         let kept: Vec<bool> = points.iter().map(|p| p.green_kubo.is_some()).collect();
         assert_eq!(kept, [true, false, true, true]);
         assert!(points[1].eta_r_hydrodynamic_green_kubo().0.is_nan());
+    }
+
+    #[test]
+    fn green_kubo_replicas_of_one_volume_fraction_are_averaged_over_their_spread() {
+        let replicas = [(0.4496, 6.0, 1.0), (0.4496, 10.0, 3.0), (0.4997, 9.0, 2.0)];
+        // Two replicas: their mean, with sqrt(s^2 / n) = |10 - 6| / 2 as its error (not
+        // the block errors 1 and 3).
+        let (eta, se) = green_kubo_at(&replicas, 0.4497).unwrap();
+        assert!(
+            (eta - 8.0).abs() < 1e-12 && (se - 2.0).abs() < 1e-12,
+            "{eta} {se}"
+        );
+        // One replica: its own value and block error.
+        assert_eq!(green_kubo_at(&replicas, 0.4997), Some((9.0, 2.0)));
+        assert_eq!(green_kubo_at(&replicas, 0.55), None);
     }
 
     #[test]

@@ -43,7 +43,19 @@ def test_an_earlier_run_is_kept_unless_force(root, tmp_path):
         suspflow.simulate(root / SCENE, tmp_path / "x", snapshot=1, snapshot_format="pdb")
 
 
-def test_ctrl_c_checkpoints_and_resume_finishes_the_run(root, command_run, tmp_path):
+@pytest.fixture
+def python_handles_sigint():
+    """Python's own SIGINT handler for the test: a shell that starts a job in the background
+    without job control (`cmd &` in a script, as CI runners may) starts it with SIGINT
+    ignored, and Python then never turns the signal into a KeyboardInterrupt."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_ctrl_c_checkpoints_and_resume_finishes_the_run(
+    root, command_run, tmp_path, python_handles_sigint
+):
     def interrupt_at_the_fifth_report(report, seen=[]):
         seen.append(report)
         if len(seen) == 5:

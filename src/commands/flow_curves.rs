@@ -294,11 +294,10 @@ fn peclet_figure(phi: f64) -> String {
 fn draw_peclet_figure(path: &Path, phi: f64, points: &[StatePoint]) -> anyhow::Result<()> {
     let at_phi: Vec<&StatePoint> = points.iter().filter(|p| p.phi == phi).collect();
     // One curve per friction coefficient, mixture composition and density.
-    let kind_of = |p: &StatePoint| p.state.curve();
     let mut kinds: Vec<Curve> = Vec::new();
     for p in &at_phi {
-        if !kinds.contains(&kind_of(p)) {
-            kinds.push(kind_of(p));
+        if !kinds.contains(&p.state.curve()) {
+            kinds.push(p.state.curve());
         }
     }
     kinds.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
@@ -306,7 +305,7 @@ fn draw_peclet_figure(path: &Path, phi: f64, points: &[StatePoint]) -> anyhow::R
         at_phi
             .iter()
             .copied()
-            .filter(|p| kind_of(p) == kind)
+            .filter(|p| p.state.curve() == kind)
             .collect()
     };
     let densities = several_densities(points);

@@ -1250,6 +1250,40 @@ fn cross_validate_compares_trees_backbone_and_both_on_held_out_families() {
     let mut forced = args.to_vec();
     forced.push("--force");
     suspflow_ok(&forced);
+    // The learning curve. Its last point, all three other families, is the trees' error of
+    // the summary, computed along a separate path; one family (of one amplitude)
+    // extrapolates to the held-out amplitudes and must do worse.
+    let mut curve_args = forced.clone();
+    curve_args.extend(["--learning-curve", "1,2", "--draws", "2"]);
+    suspflow_ok(&curve_args);
+    let record = read_json(&out.join("cv.json"));
+    let points = record["learning_curves"][0]["points"].as_array().unwrap();
+    let counts: Vec<u64> = points
+        .iter()
+        .map(|p| p["families"].as_u64().unwrap())
+        .collect();
+    assert_eq!(counts, [1, 2, 3]);
+    let error = |p: usize, k: usize| points[p]["per_output"][k].as_f64().unwrap();
+    for k in 0..2 {
+        let summary = record["mappings"][0]["summary"][0]["all"]["per_output"][k]
+            .as_f64()
+            .unwrap();
+        assert!(
+            (error(2, k) - summary).abs() < 1e-12,
+            "{} vs {summary}",
+            error(2, k)
+        );
+        assert!(error(0, k) > error(2, k), "output {k}: {points:?}");
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains("error against the number of families"),
+        "{report}"
+    );
+    let mut too_many = forced.clone();
+    too_many.extend(["--learning-curve", "4"]);
+    let err = suspflow_err(&too_many);
+    assert!(err.contains("between 1 and 3"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
 

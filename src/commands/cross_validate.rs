@@ -6,8 +6,10 @@
 //! training domain on the other families and measures, per mapping and output, the relative
 //! L2 error of eq 6.6 on the held-out family's rows: all of them, those inside the training
 //! domain and those outside, with their counts. The trees' settings are those of the models
-//! in `--models` (`<mapping>.meta.json`), so train first. Writes `DIR/report.md` (tables)
-//! and `DIR/cv.json` (every figure); progress goes to standard error.
+//! in `--models` (`<mapping>.meta.json`), so train first. With `--learning-curve`, it also
+//! measures the error against the number of families trained on (`surrogate::LearningCurve`).
+//! Writes `DIR/report.md` (tables) and `DIR/cv.json` (every figure); progress goes to
+//! standard error.
 use anyhow::Context;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -15,8 +17,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use surrogate::{
-    family_names, output_standard_errors, profile_names, Dataset, FamilyCv, Mapping, MeanErrors,
-    RowErrors, Samples, TableKind, TrainedModel, Variant,
+    family_names, output_standard_errors, profile_names, Dataset, FamilyCv, LearningCurve, Mapping,
+    MeanErrors, RowErrors, Samples, TableKind, TrainedModel, Variant,
 };
 
 use crate::surrogate_text::{describe, percent, warn_skipped};
@@ -39,6 +41,16 @@ pub struct Args {
     /// Replace a report already in `--out`.
     #[arg(long)]
     force: bool,
+    /// Also the error against the number of families trained on, at these counts
+    /// (comma-separated, e.g. 4,8,12; all the other families are always added).
+    #[arg(long, value_delimiter = ',')]
+    learning_curve: Vec<usize>,
+    /// Random draws of the training families per held-out family and count.
+    #[arg(long, default_value_t = 3)]
+    draws: usize,
+    /// Seed of those draws.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
 }
 
 /// Everything `cv.json` holds.
@@ -52,6 +64,9 @@ struct Record<'a> {
     models: String,
     seconds: f64,
     mappings: &'a [FamilyCv],
+    /// One per mapping with `--learning-curve`.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    learning_curves: &'a [LearningCurve],
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -71,7 +86,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let table = TableKind::of(&dataset).ok().map(|kind| kind.describe());
     // A missing `profile` column is named here, before any model is read.
     let families = profile_names(&dataset)?;
-    let mut results = Vec::new();
+    let (mut results, mut curves) = (Vec::new(), Vec::new());
     for mapping in mappings {
         let params = TrainedModel::load(&args.models, mapping.name)
             .with_context(|| {
@@ -110,6 +125,23 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )
         .with_context(|| format!("cross-validating `{}`", mapping.name))?;
         results.push(cv);
+        if !args.learning_curve.is_empty() {
+            eprintln!(
+                "  {}: learning curve at {:?} families, {} draws each",
+                mapping.name, args.learning_curve, args.draws
+            );
+            curves.push(
+                LearningCurve::run(
+                    mapping,
+                    &samples,
+                    &params,
+                    &args.learning_curve,
+                    args.draws,
+                    args.seed,
+                )
+                .with_context(|| format!("the learning curve of `{}`", mapping.name))?,
+            );
+        }
     }
     let seconds = started.elapsed().as_secs_f64();
     let record = Record {
@@ -120,6 +152,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         models: args.models.display().to_string(),
         seconds,
         mappings: &results,
+        learning_curves: &curves,
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
@@ -163,8 +196,50 @@ fn markdown(record: &Record, models: &Path) -> String {
     );
     for cv in record.mappings {
         mapping_section(&mut md, cv);
+        if let Some(curve) = record
+            .learning_curves
+            .iter()
+            .find(|c| c.mapping == cv.mapping)
+        {
+            learning_curve_section(&mut md, curve);
+        }
     }
     md
+}
+
+/// The error against the number of families trained on, one column per output.
+fn learning_curve_section(md: &mut String, curve: &LearningCurve) {
+    let _ = writeln!(
+        md,
+        "### `{}`: error against the number of families trained on\n\n\
+         The trees above (XGBoost alone or backbone + XGBoost, as the models) on the rows of \
+         n of the other families, drawn at random ({} draws per held-out family below the \
+         full count, seed {}), scored on the held-out family with the outputs scaled on all \
+         the other families' rows; mean over the held-out families +- its standard error. \
+         The last row is the variant's error above.\n\n\
+         | families | fits | {} |\n|---|---|{}",
+        curve.mapping,
+        curve.repeats,
+        curve.seed,
+        curve.outputs.join(" | "),
+        "---|".repeat(curve.outputs.len())
+    );
+    for p in &curve.points {
+        let cells: Vec<String> = p
+            .per_output
+            .iter()
+            .zip(&p.standard_error)
+            .map(|(e, se)| format!("{} +- {}", percent(*e), percent(*se)))
+            .collect();
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} |",
+            p.families,
+            p.fits,
+            cells.join(" | ")
+        );
+    }
+    md.push('\n');
 }
 
 fn mapping_section(md: &mut String, cv: &FamilyCv) {

@@ -63,6 +63,7 @@ pub use validation::family_cv::{
 pub use validation::family_folds::{
     family_names, leave_one_family_out, tuning_folds, FamilyFold, LeftOut, MIN_TUNING_FAMILIES,
 };
+pub use validation::family_learning_curve::{LearningCurve, LearningPoint};
 pub use validation::profile_error::{model_errors, relative_l2};
 pub use validation::profile_rows::{gain_shares, records, theta_vs_dv, Lower, Record, ThetaVsDv};
 pub use validation::target_noise::{output_standard_errors, target_noise};

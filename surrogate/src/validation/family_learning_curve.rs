@@ -1,0 +1,261 @@
+//! Would more profile families help? The leave-one-family-out error against the number of
+//! families a model is trained on.
+//!
+//! For each held-out family (the folds of [`crate::validation::family_folds`]) and each count
+//! `n` of training families, a model with the given hyper-parameters is fitted on the rows of
+//! `n` of the other families, drawn at random (`repeats` draws; one when `n` is all of them),
+//! and scored on the held-out rows by eq 6.6 with the outputs min-max scaled on the rows of
+//! *all* the other families, so that every `n` is measured with the same yardstick. With all
+//! the other families the point is the family cross-validation's own error for the same
+//! trees ([`crate::validation::family_cv`]). The errors are averaged over the draws per
+//! family, then over the families; the standard error is that of the mean over the
+//! families. A curve still falling at the full count says that more families would help; a
+//! flat one that the error is in what the mapping's inputs can tell, not in the data's
+//! extent.
+
+use ndarray::Axis;
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::data::mapping::Mapping;
+use crate::data::samples::Samples;
+use crate::data::scaling::MinMaxScaling;
+use crate::error::{Result, SurrogateError};
+use crate::models::booster::HyperParameters;
+use crate::models::metrics::relative_l2_error;
+use crate::models::model::TrainedModel;
+use crate::rheology::statistics::mean_and_standard_error;
+use crate::validation::family_folds::leave_one_family_out;
+
+/// The held-out error when training on a given number of families.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LearningPoint {
+    /// Profile families trained on.
+    pub families: usize,
+    /// Models fitted for this point (held-out families x draws).
+    pub fits: usize,
+    /// Mean over the held-out families of each output's eq 6.6 error, as a fraction.
+    pub per_output: Vec<f64>,
+    /// Standard error of that mean over the held-out families, per output.
+    pub standard_error: Vec<f64>,
+}
+
+/// The learning curve of one mapping.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LearningCurve {
+    pub mapping: String,
+    pub outputs: Vec<String>,
+    /// Draws of the training families per held-out family and count below the full one.
+    pub repeats: usize,
+    /// The seed of the draws.
+    pub seed: u64,
+    /// One point per count, in increasing order; the last is all the other families.
+    pub points: Vec<LearningPoint>,
+}
+
+impl LearningCurve {
+    /// The curve at the counts `families` (each between 1 and the number of families less
+    /// one; the full count is added when missing), with `repeats` (>= 1) seeded draws per
+    /// held-out family and count. The held-out families run in parallel on rayon's pool;
+    /// the result does not depend on the number of threads.
+    pub fn run(
+        mapping: &Mapping,
+        samples: &Samples,
+        params: &HyperParameters,
+        families: &[usize],
+        repeats: usize,
+        seed: u64,
+    ) -> Result<Self> {
+        let folds = leave_one_family_out(samples)?;
+        let full = folds.len() - 1;
+        let counts = counts_with_full(families, full)?;
+        if repeats == 0 {
+            return Err(SurrogateError::InvalidArgument(
+                "a learning curve needs at least one draw of training families per count"
+                    .to_owned(),
+            ));
+        }
+        let all_families = samples.families.as_deref().unwrap_or_default();
+        // Per held-out family, per count: the error of each output, averaged over the draws.
+        let per_fold = folds
+            .par_iter()
+            .enumerate()
+            .map(|(k, fold)| {
+                let test = samples.subset(&fold.fold.test)?;
+                let yardstick =
+                    MinMaxScaling::fit(samples.outputs.select(Axis(0), &fold.fold.train).view())?;
+                let truth = yardstick.scale(test.outputs.view())?;
+                let mut others: Vec<&String> = folds
+                    .iter()
+                    .map(|f| &f.family)
+                    .filter(|f| **f != fold.family)
+                    .collect();
+                others.sort();
+                counts
+                    .iter()
+                    .map(|&n| {
+                        let draws = if n == full { 1 } else { repeats };
+                        let mut sum = vec![0.0; samples.output_names.len()];
+                        for draw in 0..draws {
+                            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+                            rng.set_stream(((k as u64) << 32) | ((n as u64) << 16) | draw as u64);
+                            let chosen: Vec<&String> =
+                                others.choose_multiple(&mut rng, n).copied().collect();
+                            let rows: Vec<usize> = fold
+                                .fold
+                                .train
+                                .iter()
+                                .copied()
+                                .filter(|&i| chosen.contains(&&all_families[i]))
+                                .collect();
+                            let model = TrainedModel::fit(mapping, &samples.subset(&rows)?, params)
+                                .map_err(|e| {
+                                    SurrogateError::InvalidArgument(format!(
+                                        "holding out `{}` and training on {n} families: {e}",
+                                        fold.family
+                                    ))
+                                })?;
+                            let predicted = yardstick
+                                .scale(model.predict_features(test.features.view())?.view())?;
+                            let e = relative_l2_error(truth.view(), predicted.view())?;
+                            sum.iter_mut().zip(&e).for_each(|(s, e)| *s += e);
+                        }
+                        Ok(sum.into_iter().map(|s| s / draws as f64).collect())
+                    })
+                    .collect::<Result<Vec<Vec<f64>>>>()
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let points = counts
+            .iter()
+            .enumerate()
+            .map(|(c, &n)| {
+                let (per_output, standard_error) = (0..samples.output_names.len())
+                    .map(|j| {
+                        let values: Vec<f64> = per_fold.iter().map(|f| f[c][j]).collect();
+                        mean_and_standard_error(&values)
+                    })
+                    .unzip();
+                LearningPoint {
+                    families: n,
+                    fits: folds.len() * if n == full { 1 } else { repeats },
+                    per_output,
+                    standard_error,
+                }
+            })
+            .collect();
+        Ok(LearningCurve {
+            mapping: mapping.name.to_owned(),
+            outputs: samples.output_names.clone(),
+            repeats,
+            seed,
+            points,
+        })
+    }
+}
+
+/// `families` sorted and deduplicated, with `full` appended when missing; an error for a
+/// count outside 1..=full.
+fn counts_with_full(families: &[usize], full: usize) -> Result<Vec<usize>> {
+    if let Some(&bad) = families.iter().find(|&&n| n == 0 || n > full) {
+        return Err(SurrogateError::InvalidArgument(format!(
+            "cannot train on {bad} profile families: with one held out there are {full} to \
+             train on, so a count must be between 1 and {full}"
+        )));
+    }
+    let mut counts = families.to_vec();
+    counts.push(full);
+    counts.sort_unstable();
+    counts.dedup();
+    Ok(counts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::mapping::MAPPINGS;
+    use ndarray::Array2;
+
+    /// Eight families of the `mu` mapping's columns, family `k` covering J in
+    /// [0.1 k, 0.1 (k + 1)] with `mu = 0.3 + J` (phi_loc and phi constant): one smooth law,
+    /// which a model of few families must extrapolate to a held-out family and a model of
+    /// all the others only interpolates (for all but the two end families).
+    fn banded_families() -> Samples {
+        let (families, rows_per) = (8, 20);
+        let n = families * rows_per;
+        let mut features = Array2::zeros((n, 3));
+        let mut outputs = Array2::zeros((n, 1));
+        let (mut names, mut groups) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        for i in 0..n {
+            let (k, r) = (i / rows_per, i % rows_per);
+            let j = 0.1 * (k as f64 + (r as f64 + 0.5) / rows_per as f64);
+            features[[i, 0]] = j;
+            features[[i, 1]] = 0.55;
+            features[[i, 2]] = 0.55;
+            outputs[[i, 0]] = 0.3 + j;
+            names.push(format!("family {k}"));
+            // Two simulations per family, as the training domain needs at least two.
+            groups.push(format!("family {k} run {}", r % 2));
+        }
+        Samples {
+            source_name: "banded".to_owned(),
+            source_fingerprint: schema::Fingerprint::of(b"banded"),
+            feature_names: MAPPINGS[0].features.iter().map(|s| s.to_string()).collect(),
+            output_names: vec!["mu".to_owned()],
+            features,
+            outputs,
+            groups,
+            families: Some(names),
+            data_rows: (1..=n).collect(),
+            skipped_rows: 0,
+        }
+    }
+
+    fn params() -> HyperParameters {
+        HyperParameters {
+            n_estimators: 50,
+            max_depth: 2,
+            learning_rate: 0.3,
+            ..HyperParameters::default()
+        }
+    }
+
+    #[test]
+    fn the_error_falls_as_the_families_cover_the_held_out_one() {
+        let samples = banded_families();
+        let curve = LearningCurve::run(&MAPPINGS[0], &samples, &params(), &[1, 3], 4, 7).unwrap();
+        let counts: Vec<usize> = curve.points.iter().map(|p| p.families).collect();
+        assert_eq!(counts, [1, 3, 7]);
+        assert_eq!(curve.points[0].fits, 8 * 4);
+        assert_eq!(curve.points[2].fits, 8);
+        let e: Vec<f64> = curve.points.iter().map(|p| p.per_output[0]).collect();
+        // One random family leaves most held-out bands far outside the training J, where the
+        // trees are flat; all seven cover every band but the ends.
+        assert!(e[0] > 2.0 * e[2], "{e:?}");
+        assert!(e[1] > e[2], "{e:?}");
+        assert!(curve.points.iter().all(|p| p.standard_error[0] > 0.0));
+    }
+
+    #[test]
+    fn the_draws_are_seeded() {
+        let samples = banded_families();
+        let run = |seed| LearningCurve::run(&MAPPINGS[0], &samples, &params(), &[2], 3, seed);
+        assert_eq!(run(3).unwrap(), run(3).unwrap());
+        assert_ne!(run(3).unwrap().points[0], run(4).unwrap().points[0]);
+    }
+
+    #[test]
+    fn a_count_beyond_the_other_families_is_an_error() {
+        let samples = banded_families();
+        for bad in [0, 8] {
+            let e = LearningCurve::run(&MAPPINGS[0], &samples, &params(), &[bad], 2, 1)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("between 1 and 7"), "{e}");
+        }
+        let e = LearningCurve::run(&MAPPINGS[0], &samples, &params(), &[2], 0, 1).unwrap_err();
+        assert!(e.to_string().contains("at least one draw"), "{e}");
+    }
+}

@@ -700,6 +700,50 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
         let svg = std::fs::read_to_string(run.out.join(format!("eta_r_Pe_phi{phi}.svg"))).unwrap();
         assert!(svg.contains("structural Brownian"), "phi {phi}");
     }
+    // With a Green-Kubo result per volume fraction (written by hand: eta_B / eta = 2 +- 0.2
+    // extrapolated at each realised phi), the seeds' Pe -> 0 construction is fitted at the lowest Pe and
+    // drawn within its errors.
+    let mut args: Vec<String> = [
+        "flow-curves",
+        "tests/grids/tiny_brownian_shear.toml",
+        "--runs",
+    ]
+    .map(String::from)
+    .to_vec();
+    args.push(run.dir.join("runs").to_str().unwrap().to_owned());
+    let with_gk = run.dir.join("with_gk");
+    args.extend(["--out".to_owned(), with_gk.to_str().unwrap().to_owned()]);
+    let mut phis: Vec<f64> = run.rows.iter().map(|r| value(r, "phi_actual")).collect();
+    phis.sort_by(f64::total_cmp);
+    phis.dedup();
+    for (k, phi) in phis.iter().enumerate() {
+        let gk = run.dir.join(format!("gk{k}"));
+        std::fs::create_dir_all(&gk).unwrap();
+        std::fs::write(
+            gk.join("green_kubo.json"),
+            format!(
+                "{{\"phi_actual\": {phi}, \"eta_brownian_over_eta\": 1.0, \
+                 \"eta_brownian_over_eta_se\": 0.1, \"extrapolated_eta_brownian_over_eta\": 2.0, \
+                 \"extrapolated_eta_brownian_over_eta_se\": 0.2}}"
+            ),
+        )
+        .unwrap();
+        args.extend(["--green-kubo".to_owned(), gk.to_str().unwrap().to_owned()]);
+    }
+    assert_ok(&suspflow(
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+    ));
+    let readme = std::fs::read_to_string(with_gk.join("README.md")).unwrap();
+    let drawn = readme
+        .lines()
+        .find(|l| l.starts_with("| mu_p = 0, Pe = 1.000e1 | ") && l.contains(" / 1000 |"))
+        .unwrap_or_else(|| panic!("no drawn Green-Kubo fit in\n{readme}"));
+    assert_eq!(drawn.matches(" ± ").count(), 3, "{drawn}");
+    // Only the lowest Pe carries the Green-Kubo viscosity.
+    assert!(
+        !readme.contains("| mu_p = 0, Pe = 1.000e3 | hydrodynamic + drag"),
+        "{readme}"
+    );
     std::fs::remove_dir_all(&run.dir).ok();
 }
 

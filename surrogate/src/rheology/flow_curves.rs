@@ -10,6 +10,7 @@
 
 use crate::error::Result;
 use crate::rheology::flow_curve_fit::{FlowCurvePoint, SeededJammingFit};
+use crate::rheology::jamming_bootstrap::PointWithError;
 use crate::rheology::jamming_law::SEEDS_LAW;
 use crate::rheology::statistics::mean_and_standard_error;
 
@@ -242,6 +243,38 @@ impl StateFits {
     }
 }
 
+/// The seeds' Pe -> 0 points of `state` ([`StatePoint::eta_r_hydrodynamic_green_kubo`]),
+/// one per volume fraction with a Green-Kubo viscosity: the [`seed_mean`] of the
+/// hydrodynamic + drag viscosity, with the error of the seeds' spread, plus the Green-Kubo
+/// viscosity, which all those seeds share, errors in quadrature. For
+/// [`crate::rheology::jamming_bootstrap::JammingBootstrap`]: the seeds' spread alone misses
+/// the shared error.
+pub fn green_kubo_points(points: &[StatePoint], state: State) -> Vec<PointWithError> {
+    volume_fractions(points)
+        .into_iter()
+        .filter_map(|phi| {
+            let sel: Vec<&StatePoint> = points
+                .iter()
+                .filter(|p| p.state == state && p.phi == phi)
+                .collect();
+            let (gk, gk_se) = sel.first()?.green_kubo?;
+            let hydrodynamic = seed_mean(
+                &sel.iter()
+                    .map(|p| {
+                        let ((h, h_se), (d, d_se)) = (p.parts[HYDRODYNAMIC], p.parts[DRAG]);
+                        (h + d, h_se.hypot(d_se))
+                    })
+                    .collect::<Vec<_>>(),
+            );
+            Some(PointWithError {
+                phi: seed_mean(&sel.iter().map(|p| (p.phi_actual, 0.0)).collect::<Vec<_>>()).0,
+                eta_r: hydrodynamic.0 + gk,
+                se: hydrodynamic.1.hypot(gk_se),
+            })
+        })
+        .collect()
+}
+
 /// One state at one volume fraction, each value the [`seed_mean`] of its runs.
 pub struct StateRow {
     /// Realised volume fraction.
@@ -416,5 +449,29 @@ mod tests {
         assert!((se - 0.5).abs() < 1e-15);
         assert_eq!(p.eta_r_with_brownian(), (2.25, 0.1));
         assert_eq!(part_viscosity(0.0, 0.0, 2.0).0.to_bits(), 0.0f64.to_bits());
+    }
+
+    #[test]
+    fn green_kubo_points_add_the_shared_error_to_the_seeds_spread() {
+        // Two seeds whose hydrodynamic + drag viscosities are 2.5 and 2.9 (spread: standard
+        // error 0.2), one Green-Kubo value 7 +- 0.5 for both; a third run at another phi
+        // without Green-Kubo is left out.
+        let mut runs: Vec<StatePoint> = [(1, 2.0), (2, 2.4)]
+            .into_iter()
+            .map(|(seed, h)| {
+                let mut p = point(0.1, seed, 5.0);
+                p.parts[HYDRODYNAMIC].0 = h;
+                p.green_kubo = Some((7.0, 0.5));
+                p
+            })
+            .collect();
+        let mut other = point(0.1, 1, 5.0);
+        (other.phi, other.phi_actual) = (0.55, 0.55);
+        runs.push(other);
+        let got = green_kubo_points(&runs, runs[0].state);
+        assert_eq!(got.len(), 1);
+        assert!((got[0].eta_r - 9.7).abs() < 1e-12, "{got:?}");
+        // Not the seeds' spread of the per-run sums (0.2): the shared 0.5 stays.
+        assert!((got[0].se - 0.2f64.hypot(0.5)).abs() < 1e-12, "{got:?}");
     }
 }

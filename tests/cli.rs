@@ -736,9 +736,26 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
     let readme = std::fs::read_to_string(with_gk.join("README.md")).unwrap();
     let drawn = readme
         .lines()
-        .find(|l| l.starts_with("| mu_p = 0, Pe = 1.000e1 | ") && l.contains(" / 1000 |"))
+        .find(|l| {
+            l.starts_with("| mu_p = 0, Pe = 1.000e1 | ")
+                && l.contains(" ± ")
+                && l.contains(" at 0.")
+        })
         .unwrap_or_else(|| panic!("no drawn Green-Kubo fit in\n{readme}"));
     assert_eq!(drawn.matches(" ± ").count(), 3, "{drawn}");
+    // Its first point: the seeds' mean hydrodynamic + drag viscosity at the lowest phi and
+    // Pe, plus the Green-Kubo 2.
+    let lowest: Vec<f64> = run
+        .rows
+        .iter()
+        .filter(|r| value(r, "peclet") == 10.0 && value(r, "phi_actual") == phis[0])
+        .map(|r| value(r, "eta_r_hydrodynamic") + value(r, "eta_r_drag"))
+        .collect();
+    let expected = lowest.iter().sum::<f64>() / lowest.len() as f64 + 2.0;
+    assert!(
+        drawn.contains(&format!("| {expected:.2} ± ")),
+        "{expected} in {drawn}"
+    );
     // Only the lowest Pe carries the Green-Kubo viscosity.
     assert!(
         !readme.contains("| mu_p = 0, Pe = 1.000e3 | hydrodynamic + drag"),

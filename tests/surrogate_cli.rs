@@ -1264,10 +1264,21 @@ fn cross_validate_compares_trees_backbone_and_both_on_held_out_families() {
         .collect();
     assert_eq!(counts, [1, 2, 3]);
     let error = |p: usize, k: usize| points[p]["per_output"][k].as_f64().unwrap();
+    // The summary entry of the variant the curve used (that of the models).
+    let curve = &record["learning_curves"][0];
+    let variant = if curve["backbone"].as_bool().unwrap() {
+        "backbone_trees"
+    } else {
+        "trees"
+    };
+    let summary = record["mappings"][0]["summary"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["variant"] == variant)
+        .unwrap();
     for k in 0..2 {
-        let summary = record["mappings"][0]["summary"][0]["all"]["per_output"][k]
-            .as_f64()
-            .unwrap();
+        let summary = summary["all"]["per_output"][k].as_f64().unwrap();
         assert!(
             (error(2, k) - summary).abs() < 1e-12,
             "{} vs {summary}",
@@ -1280,6 +1291,11 @@ fn cross_validate_compares_trees_backbone_and_both_on_held_out_families() {
         report.contains("error against the number of families"),
         "{report}"
     );
+    // --draws without --learning-curve is refused by the parser.
+    let mut stray = forced.clone();
+    stray.extend(["--draws", "2"]);
+    let err = suspflow_err(&stray);
+    assert!(err.contains("--learning-curve"), "{err}");
     let mut too_many = forced.clone();
     too_many.extend(["--learning-curve", "4"]);
     let err = suspflow_err(&too_many);

@@ -46,10 +46,10 @@ pub struct Args {
     #[arg(long, value_delimiter = ',')]
     learning_curve: Vec<usize>,
     /// Random draws of the training families per held-out family and count.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, requires = "learning_curve")]
     draws: usize,
     /// Seed of those draws.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, requires = "learning_curve")]
     seed: u64,
 }
 
@@ -108,23 +108,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             samples.n_rows(),
             describe(&params)
         );
-        let finished = AtomicUsize::new(0);
-        let standard_errors = output_standard_errors(&dataset, &samples)?;
-        let cv = FamilyCv::run(
-            mapping,
-            &samples,
-            standard_errors.as_ref(),
-            &params,
-            &|fold| {
-                let k = finished.fetch_add(1, Ordering::Relaxed) + 1;
-                eprintln!(
-                    "  {} [{k}/{n}] left out `{}`: {} rows",
-                    mapping.name, fold.family, fold.variants[0].all.rows
-                );
-            },
-        )
-        .with_context(|| format!("cross-validating `{}`", mapping.name))?;
-        results.push(cv);
         if !args.learning_curve.is_empty() {
             eprintln!(
                 "  {}: learning curve at {:?} families, {} draws each",
@@ -142,6 +125,23 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .with_context(|| format!("the learning curve of `{}`", mapping.name))?,
             );
         }
+        let finished = AtomicUsize::new(0);
+        let standard_errors = output_standard_errors(&dataset, &samples)?;
+        let cv = FamilyCv::run(
+            mapping,
+            &samples,
+            standard_errors.as_ref(),
+            &params,
+            &|fold| {
+                let k = finished.fetch_add(1, Ordering::Relaxed) + 1;
+                eprintln!(
+                    "  {} [{k}/{n}] left out `{}`: {} rows",
+                    mapping.name, fold.family, fold.variants[0].all.rows
+                );
+            },
+        )
+        .with_context(|| format!("cross-validating `{}`", mapping.name))?;
+        results.push(cv);
     }
     let seconds = started.elapsed().as_secs_f64();
     let record = Record {
@@ -207,29 +207,46 @@ fn markdown(record: &Record, models: &Path) -> String {
     md
 }
 
-/// The error against the number of families trained on, one column per output.
+/// The error against the number of families trained on, one column per output, and its
+/// change from the full count.
 fn learning_curve_section(md: &mut String, curve: &LearningCurve) {
+    let trees = if curve.backbone {
+        Variant::BackboneTrees
+    } else {
+        Variant::Trees
+    };
     let _ = writeln!(
         md,
         "### `{}`: error against the number of families trained on\n\n\
-         The trees above (XGBoost alone or backbone + XGBoost, as the models) on the rows of \
-         n of the other families, drawn at random ({} draws per held-out family below the \
-         full count, seed {}), scored on the held-out family with the outputs scaled on all \
-         the other families' rows; mean over the held-out families +- its standard error. \
-         The last row is the variant's error above.\n\n\
+         The models' variant ({}) on the rows of n of the other families, drawn at random \
+         ({} draws per held-out family below the full count, seed {}), scored on the held-out \
+         family with the outputs scaled on all the other families' rows: the mean over the \
+         held-out families ± its standard error, and its change from the full count (the \
+         variant's error above) ± the standard error of the paired differences.\n\n\
          | families | fits | {} |\n|---|---|{}",
         curve.mapping,
-        curve.repeats,
+        trees.label(),
+        curve.draws,
         curve.seed,
-        curve.outputs.join(" | "),
-        "---|".repeat(curve.outputs.len())
+        curve
+            .outputs
+            .iter()
+            .map(|o| format!("{o} | change"))
+            .collect::<Vec<_>>()
+            .join(" | "),
+        "---|---|".repeat(curve.outputs.len())
     );
     for p in &curve.points {
-        let cells: Vec<String> = p
-            .per_output
-            .iter()
-            .zip(&p.standard_error)
-            .map(|(e, se)| format!("{} +- {}", percent(*e), percent(*se)))
+        let cells: Vec<String> = (0..curve.outputs.len())
+            .map(|j| {
+                format!(
+                    "{} ± {} | {:+.2} ± {:.2}",
+                    percent(p.per_output[j]),
+                    percent(p.standard_error[j]),
+                    100.0 * p.change_from_full[j],
+                    100.0 * p.change_standard_error[j]
+                )
+            })
             .collect();
         let _ = writeln!(
             md,

@@ -32,7 +32,7 @@ use surrogate::{
     bin_viscosity, green_kubo_at, green_kubo_points, keep_green_kubo_at_lowest_peclet, over_seeds,
     part_viscosity, state_rows, states, volume_fractions, Curve, Dataset, JammingBootstrap,
     JammingLaw, Quantiles, State, StateFits, StatePoint, CONVENTIONS, MIN_VOLUME_FRACTIONS,
-    SEEDS_LAW,
+    PHI_J_MAX, SEEDS_LAW, SEEDS_LOW_PECLET_PHI_J,
 };
 
 /// Centres of the `phi_loc` bands of the local-versus-homogeneous table.
@@ -539,12 +539,13 @@ fn summary_text(
             );
         }
     }
-    let fit_header = String::from(
+    let fit_header = format!(
         "\nFit of `eta_r = (1 - phi/phi_J)^(-lambda)` per state (least squares in `ln eta_r`, \
          all points; standard errors from the seeds' separate fits), beside the seeds' \
-         `phi_J = 0.642`, `lambda = 1.5` (frictionless, high Pe) and `phi_J = 0.587` (Pe -> 0, \
-         hydrodynamic + Green-Kubo Brownian viscosity):\n\n\
+         `phi_J = {}`, `lambda = {}` (frictionless, high Pe) and `phi_J = \
+         {SEEDS_LOW_PECLET_PHI_J}` (Pe -> 0, hydrodynamic + Green-Kubo Brownian viscosity):\n\n\
          | state | stress | phi_J | lambda | per seed (phi_J, lambda) |\n|---|---|---|---|---|\n",
+        SEEDS_LAW.phi_j, SEEDS_LAW.lambda
     );
     let mut rows = String::new();
     let mut unfitted = Vec::new();
@@ -654,9 +655,6 @@ fn summary_text(
     s
 }
 
-/// The seeds' jamming fraction at Pe -> 0 (paper Fig. 6a, thesis Fig. 4.9a).
-const SEEDS_LOW_PECLET_PHI_J: f64 = 0.587;
-
 /// Draws of the Green-Kubo points within their errors for the jamming law's bootstrap.
 const BOOTSTRAP_DRAWS: usize = 1000;
 
@@ -672,35 +670,48 @@ fn green_kubo_bootstrap(
     let near_seeds = SEEDS_LOW_PECLET_PHI_J + 0.015;
     let mut lines = Vec::new();
     for f in fits {
-        let gk = green_kubo_points(points, f.state);
-        if gk.len() < MIN_VOLUME_FRACTIONS {
-            continue;
-        }
         let state = label(&f.state, densities);
-        let line = match JammingBootstrap::run(&gk, BOOTSTRAP_DRAWS, 1) {
-            Ok(b) => {
+        let drawn = green_kubo_points(points, f.state).and_then(|gk| {
+            if gk.len() < MIN_VOLUME_FRACTIONS {
+                return Ok(None);
+            }
+            JammingBootstrap::run(&gk, BOOTSTRAP_DRAWS, 1).map(|b| Some((gk, b)))
+        });
+        let line = match drawn {
+            Ok(None) => continue,
+            Ok(Some((gk, b))) => {
                 let values: Vec<String> = gk
                     .iter()
                     .map(|p| format!("{:.2} ± {:.2} at {:.3}", p.eta_r, p.se, p.phi))
                     .collect();
+                let value = |v: f64, digits: usize| {
+                    if v.is_finite() {
+                        format!("{v:.digits$}")
+                    } else {
+                        format!("> {PHI_J_MAX}")
+                    }
+                };
                 let range = |q: Option<Quantiles>, digits: usize| {
                     q.map_or_else(
-                        || "no draw fitted".to_owned(),
+                        || "-".to_owned(),
                         |q| {
                             format!(
-                                "{:.digits$} ({:.digits$}-{:.digits$})",
-                                q.median, q.p16, q.p84
+                                "{} ({} to {})",
+                                value(q.median, digits),
+                                value(q.p16, digits),
+                                value(q.p84, digits)
                             )
                         },
                     )
                 };
                 format!(
-                    "| {state} | {} | {} | {} | {} / {} | {:.0} % |",
+                    "| {state} | {} | {} | {} | {} / {} / {} | {:.0} % |",
                     values.join("; "),
                     range(b.phi_j, 4),
                     range(b.lambda, 3),
-                    b.fitted,
-                    b.draws,
+                    b.diverging,
+                    b.beyond_edge,
+                    b.invalid,
                     100.0 * b.share_at_most(near_seeds)
                 )
             }
@@ -716,11 +727,13 @@ fn green_kubo_bootstrap(
         "\nThe hydrodynamic + drag + Green-Kubo fit within the points' errors: {BOOTSTRAP_DRAWS} \
          draws (seed 1) of every point at `eta_r + se z` (z standard normal; se the seeds' \
          spread of the hydrodynamic + drag part and the Green-Kubo error, which all seeds of \
-         a volume fraction share, in quadrature), each refitted; median and 16-84 % range of \
-         the draws that fit, how many did (the others do not diverge below phi_J = 0.74), \
-         and the share of all draws with phi_J within 0.015 of the seeds' Pe -> 0 value \
-         {SEEDS_LOW_PECLET_PHI_J} or below:\n\n\
-         | state | points (eta_r ± se at phi) | phi_J | lambda | fitted | phi_J <= {near_seeds:.3} |\n\
+         a volume fraction share, in quadrature), each refitted. phi_J: median (16th to 84th \
+         percentile) over all draws, `> {PHI_J_MAX}` for the draws whose points do not \
+         diverge below the search's edge; lambda: the same over the draws that diverge. \
+         Draws: diverging / not diverging below {PHI_J_MAX} / not fittable (a point drawn at \
+         eta_r <= 1); and the share of all draws with phi_J <= {near_seeds:.3}, within 0.015 \
+         of the seeds' Pe -> 0 value {SEEDS_LOW_PECLET_PHI_J}:\n\n\
+         | state | points (eta_r ± se at phi) | phi_J | lambda | draws | phi_J <= {near_seeds:.3} |\n\
          |---|---|---|---|---|---|\n{}",
         lines.join("\n")
     );

@@ -48,7 +48,9 @@ pub use rheology::flow_curves::{
     CONVENTIONS,
 };
 pub use rheology::jamming_bootstrap::{JammingBootstrap, PointWithError, Quantiles};
-pub use rheology::jamming_law::{JammingLaw, MIN_VOLUME_FRACTIONS, SEEDS_LAW};
+pub use rheology::jamming_law::{
+    JammingLaw, MIN_VOLUME_FRACTIONS, PHI_J_MAX, SEEDS_LAW, SEEDS_LOW_PECLET_PHI_J,
+};
 pub use rheology::local_rheology::LocalRheology;
 pub use rheology::statistics::{mean_and_standard_error, median, DescriptorStats};
 pub use schema::excerpt;

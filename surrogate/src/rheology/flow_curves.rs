@@ -8,7 +8,7 @@
 //! Every `eta_r` is a relative viscosity `-sigma_xy / (eta gdot)` (dimensionless), given as
 //! `(mean, standard error)`.
 
-use crate::error::Result;
+use crate::error::{Result, SurrogateError};
 use crate::rheology::flow_curve_fit::{FlowCurvePoint, SeededJammingFit};
 use crate::rheology::jamming_bootstrap::PointWithError;
 use crate::rheology::jamming_law::SEEDS_LAW;
@@ -248,31 +248,44 @@ impl StateFits {
 /// hydrodynamic + drag viscosity, with the error of the seeds' spread, plus the Green-Kubo
 /// viscosity, which all those seeds share, errors in quadrature. For
 /// [`crate::rheology::jamming_bootstrap::JammingBootstrap`]: the seeds' spread alone misses
-/// the shared error.
-pub fn green_kubo_points(points: &[StatePoint], state: State) -> Vec<PointWithError> {
-    volume_fractions(points)
-        .into_iter()
-        .filter_map(|phi| {
-            let sel: Vec<&StatePoint> = points
-                .iter()
-                .filter(|p| p.state == state && p.phi == phi)
-                .collect();
-            let (gk, gk_se) = sel.first()?.green_kubo?;
-            let hydrodynamic = seed_mean(
-                &sel.iter()
-                    .map(|p| {
-                        let ((h, h_se), (d, d_se)) = (p.parts[HYDRODYNAMIC], p.parts[DRAG]);
-                        (h + d, h_se.hypot(d_se))
-                    })
-                    .collect::<Vec<_>>(),
-            );
-            Some(PointWithError {
-                phi: seed_mean(&sel.iter().map(|p| (p.phi_actual, 0.0)).collect::<Vec<_>>()).0,
-                eta_r: hydrodynamic.0 + gk,
-                se: hydrodynamic.1.hypot(gk_se),
-            })
-        })
-        .collect()
+/// the shared error. An error where the runs of one volume fraction do not all carry the
+/// same Green-Kubo viscosity (runs at realised volume fractions matched to different
+/// Green-Kubo results, or only some with one).
+pub fn green_kubo_points(points: &[StatePoint], state: State) -> Result<Vec<PointWithError>> {
+    let mut out = Vec::new();
+    for phi in volume_fractions(points) {
+        let sel: Vec<&StatePoint> = points
+            .iter()
+            .filter(|p| p.state == state && p.phi == phi)
+            .collect();
+        let Some(first) = sel.first() else {
+            continue;
+        };
+        if sel.iter().any(|p| p.green_kubo != first.green_kubo) {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "the runs at phi = {phi} carry different Green-Kubo viscosities ({:?}): give \
+                 one Green-Kubo result (or replicas) per volume fraction",
+                sel.iter().map(|p| p.green_kubo).collect::<Vec<_>>()
+            )));
+        }
+        let Some((gk, gk_se)) = first.green_kubo else {
+            continue;
+        };
+        let hydrodynamic = seed_mean(
+            &sel.iter()
+                .map(|p| {
+                    let ((h, h_se), (d, d_se)) = (p.parts[HYDRODYNAMIC], p.parts[DRAG]);
+                    (h + d, h_se.hypot(d_se))
+                })
+                .collect::<Vec<_>>(),
+        );
+        out.push(PointWithError {
+            phi: seed_mean(&sel.iter().map(|p| (p.phi_actual, 0.0)).collect::<Vec<_>>()).0,
+            eta_r: hydrodynamic.0 + gk,
+            se: hydrodynamic.1.hypot(gk_se),
+        });
+    }
+    Ok(out)
 }
 
 /// One state at one volume fraction, each value the [`seed_mean`] of its runs.
@@ -468,10 +481,14 @@ mod tests {
         let mut other = point(0.1, 1, 5.0);
         (other.phi, other.phi_actual) = (0.55, 0.55);
         runs.push(other);
-        let got = green_kubo_points(&runs, runs[0].state);
+        let got = green_kubo_points(&runs, runs[0].state).unwrap();
         assert_eq!(got.len(), 1);
         assert!((got[0].eta_r - 9.7).abs() < 1e-12, "{got:?}");
         // Not the seeds' spread of the per-run sums (0.2): the shared 0.5 stays.
         assert!((got[0].se - 0.2f64.hypot(0.5)).abs() < 1e-12, "{got:?}");
+        // Seeds of one volume fraction with different Green-Kubo values are refused.
+        runs[1].green_kubo = Some((8.0, 0.5));
+        let e = green_kubo_points(&runs, runs[0].state).unwrap_err();
+        assert!(e.to_string().contains("different Green-Kubo"), "{e}");
     }
 }

@@ -5,8 +5,11 @@
 //! is measured once per volume fraction and added to every seed's hydrodynamic viscosity.
 //! Here each draw puts every point at `eta_r + se z` (`z` standard normal, independent
 //! between points) and fits [`JammingLaw`] again; the quantiles of the fitted `phi_J` and
-//! `lambda` over the draws, and the share of draws the law cannot fit (mostly points that
-//! do not diverge below the search's edge), say what the points can and cannot decide.
+//! `lambda` over the draws say what the points can and cannot decide. A draw whose points
+//! do not diverge below the search's edge
+//! ([`PHI_J_MAX`](crate::rheology::jamming_law::PHI_J_MAX)) counts as `phi_J` beyond it, so
+//! the quantiles of `phi_J` are over all draws and can lie beyond the edge; `lambda` is
+//! only defined for the draws that diverge.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -14,6 +17,7 @@ use serde::Serialize;
 
 use crate::error::{Result, SurrogateError};
 use crate::rheology::jamming_law::JammingLaw;
+use crate::rheology::statistics::nearest_rank_quantile;
 
 /// One point of a flow curve with its error: realised `phi`, `eta_r` and its standard error.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,7 +27,8 @@ pub struct PointWithError {
     pub se: f64,
 }
 
-/// The 16th, 50th and 84th percentiles of a fitted parameter over the draws that fit.
+/// The 16th, 50th and 84th percentiles (nearest rank) of a parameter over the draws;
+/// infinite for `phi_J` beyond the search's edge.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Quantiles {
     pub p16: f64,
@@ -31,62 +36,92 @@ pub struct Quantiles {
     pub p84: f64,
 }
 
+impl Quantiles {
+    fn of(sorted: &[f64]) -> Option<Quantiles> {
+        Some(Quantiles {
+            p16: nearest_rank_quantile(sorted, 0.16)?,
+            median: nearest_rank_quantile(sorted, 0.5)?,
+            p84: nearest_rank_quantile(sorted, 0.84)?,
+        })
+    }
+}
+
 /// The parametric bootstrap of the jamming law.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct JammingBootstrap {
     pub draws: usize,
-    /// Draws the law could be fitted to.
-    pub fitted: usize,
-    /// `None` when no draw could be fitted.
+    /// Draws whose points diverge below [`PHI_J_MAX`](crate::rheology::jamming_law::PHI_J_MAX).
+    pub diverging: usize,
+    /// Draws whose points do not ([`JammingLaw::at_edge`]).
+    pub beyond_edge: usize,
+    /// Draws the law cannot be fitted to at all (a point drawn at `eta_r <= 1`).
+    pub invalid: usize,
+    /// Over the diverging and beyond-edge draws, the latter at infinity; `None` without any.
     pub phi_j: Option<Quantiles>,
+    /// Over the diverging draws; `None` without any.
     pub lambda: Option<Quantiles>,
-    /// The fitted `phi_J` of every draw that fit, ascending.
+    /// The `phi_J` of the diverging draws, ascending.
     #[serde(skip)]
-    phi_j_fitted: Vec<f64>,
+    phi_j_diverging: Vec<f64>,
 }
 
 impl JammingBootstrap {
-    /// `draws` (>= 1) refits of the law to `points` moved within their errors, seeded by
-    /// `seed`; a draw that puts a point at `eta_r <= 1` or that the law cannot fit counts as
-    /// not fitted.
+    /// `draws` (>= 1) refits of the law to `points` (finite, `se >= 0`) moved within their
+    /// errors, seeded by `seed`.
     pub fn run(points: &[PointWithError], draws: usize, seed: u64) -> Result<Self> {
         if draws == 0 {
             return Err(SurrogateError::InvalidArgument(
                 "a bootstrap of the jamming law needs at least one draw".to_owned(),
             ));
         }
-        if let Some(p) = points.iter().find(|p| !(p.se >= 0.0 && p.se.is_finite())) {
+        if let Some(p) = points.iter().find(|p| {
+            !(p.phi.is_finite() && p.eta_r.is_finite() && p.se.is_finite() && p.se >= 0.0)
+        }) {
             return Err(SurrogateError::InvalidArgument(format!(
-                "the point at phi = {} has no usable standard error ({})",
-                p.phi, p.se
+                "cannot draw the point eta_r = {} ± {} at phi = {}: each needs a finite value \
+                 and a finite, non-negative standard error",
+                p.eta_r, p.se, p.phi
             )));
         }
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let phi: Vec<f64> = points.iter().map(|p| p.phi).collect();
         let (mut phi_j, mut lambda) = (Vec::new(), Vec::new());
+        let (mut beyond_edge, mut invalid) = (0, 0);
         for _ in 0..draws {
             let eta: Vec<f64> = points
                 .iter()
                 .map(|p| p.eta_r + p.se * standard_normal(&mut rng))
                 .collect();
-            if let Ok(law) = JammingLaw::fit(&phi, &eta) {
-                phi_j.push(law.phi_j);
-                lambda.push(law.lambda);
+            match JammingLaw::fit_to_edge(&phi, &eta) {
+                Ok(law) if law.at_edge() => beyond_edge += 1,
+                Ok(law) => {
+                    phi_j.push(law.phi_j);
+                    lambda.push(law.lambda);
+                }
+                Err(_) => invalid += 1,
             }
         }
         phi_j.sort_by(f64::total_cmp);
+        lambda.sort_by(f64::total_cmp);
+        let with_edge: Vec<f64> = phi_j
+            .iter()
+            .copied()
+            .chain(std::iter::repeat_n(f64::INFINITY, beyond_edge))
+            .collect();
         Ok(JammingBootstrap {
             draws,
-            fitted: phi_j.len(),
-            phi_j: quantiles(phi_j.clone()),
-            lambda: quantiles(lambda),
-            phi_j_fitted: phi_j,
+            diverging: phi_j.len(),
+            beyond_edge,
+            invalid,
+            phi_j: Quantiles::of(&with_edge),
+            lambda: Quantiles::of(&lambda),
+            phi_j_diverging: phi_j,
         })
     }
 
-    /// The share of all draws (fitted or not) whose fitted `phi_J` is at most `phi_j`.
+    /// The share of all draws whose points diverge at `phi_J <= phi_j`.
     pub fn share_at_most(&self, phi_j: f64) -> f64 {
-        self.phi_j_fitted.partition_point(|&p| p <= phi_j) as f64 / self.draws as f64
+        self.phi_j_diverging.partition_point(|&p| p <= phi_j) as f64 / self.draws as f64
     }
 }
 
@@ -95,20 +130,6 @@ impl JammingBootstrap {
 fn standard_normal(rng: &mut impl Rng) -> f64 {
     let (u1, u2): (f64, f64) = (rng.gen(), rng.gen());
     (-2.0 * (1.0 - u1).ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-}
-
-/// The 16th, 50th and 84th percentiles of `values` (nearest rank), `None` when empty.
-fn quantiles(mut values: Vec<f64>) -> Option<Quantiles> {
-    if values.is_empty() {
-        return None;
-    }
-    values.sort_by(f64::total_cmp);
-    let at = |q: f64| values[((q * values.len() as f64) as usize).min(values.len() - 1)];
-    Some(Quantiles {
-        p16: at(0.16),
-        median: at(0.5),
-        p84: at(0.84),
-    })
 }
 
 #[cfg(test)]
@@ -136,7 +157,10 @@ mod tests {
             lambda: 1.8,
         };
         let exact = JammingBootstrap::run(&on_law(law, 0.0), 20, 1).unwrap();
-        assert_eq!(exact.fitted, 20);
+        assert_eq!(
+            (exact.diverging, exact.beyond_edge, exact.invalid),
+            (20, 0, 0)
+        );
         let q = exact.phi_j.unwrap();
         assert_eq!(
             (exact.share_at_most(0.619), exact.share_at_most(0.621)),
@@ -165,7 +189,7 @@ mod tests {
     }
 
     #[test]
-    fn draws_that_cannot_diverge_are_counted_not_fitted() {
+    fn draws_that_cannot_diverge_are_counted_beyond_the_edge() {
         // A flat curve (eta_r 3 at every phi) has no divergence below the search's edge.
         let flat: Vec<PointWithError> = [0.45, 0.50, 0.55]
             .iter()
@@ -176,13 +200,24 @@ mod tests {
             })
             .collect();
         let b = JammingBootstrap::run(&flat, 50, 3).unwrap();
-        assert!(b.fitted < 50, "{b:?}");
-        // The share counts the unfitted draws in its denominator.
-        assert_eq!(b.share_at_most(1.0), b.fitted as f64 / 50.0);
+        assert_eq!(b.diverging + b.beyond_edge + b.invalid, 50);
+        // The share counts the other draws in its denominator, and the quantiles of phi_J
+        // put them beyond the edge.
+        assert_eq!(b.share_at_most(1.0), b.diverging as f64 / 50.0);
+        // About half the draws fall with phi somewhere, more than the 16 % that put the
+        // 84th percentile beyond the edge.
+        assert!(b.beyond_edge > 8, "{b:?}");
+        assert_eq!(b.phi_j.unwrap().p84, f64::INFINITY, "{b:?}");
         assert!(JammingBootstrap::run(&flat, 0, 3).is_err());
+        for (k, value) in [(0, f64::NAN), (1, -0.1)] {
+            let mut bad = flat.clone();
+            bad[0].se = value;
+            assert!(JammingBootstrap::run(&bad, 5, 3).is_err(), "se {k}");
+        }
         let mut bad = flat.clone();
-        bad[0].se = f64::NAN;
-        assert!(JammingBootstrap::run(&bad, 5, 3).is_err());
+        bad[1].eta_r = f64::NAN;
+        let e = JammingBootstrap::run(&bad, 5, 3).unwrap_err().to_string();
+        assert!(e.contains("finite value"), "{e}");
     }
 
     #[test]

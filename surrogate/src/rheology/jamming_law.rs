@@ -16,8 +16,12 @@ pub const SEEDS_LAW: JammingLaw = JammingLaw {
     lambda: 1.5,
 };
 
+/// The seeds' jamming fraction at Pe -> 0 (paper Fig. 6a, thesis Fig. 4.9a): their
+/// hydrodynamic viscosity plus the Green-Kubo Brownian one.
+pub const SEEDS_LOW_PECLET_PHI_J: f64 = 0.587;
+
 /// Largest `phi_J` searched: random close packing of bidisperse spheres lies below it.
-const PHI_J_MAX: f64 = 0.74;
+pub const PHI_J_MAX: f64 = 0.74;
 /// A fitted `phi_J` this close to [`PHI_J_MAX`] is the search's edge, not a minimum: the
 /// points show no divergence below it.
 const PHI_J_EDGE: f64 = 1e-3;
@@ -76,6 +80,31 @@ impl JammingLaw {
     /// search's upper edge (points that do not rise like a divergence below it, e.g. a
     /// viscosity that falls with `phi` between two of them).
     pub fn fit(phi: &[f64], eta_r: &[f64]) -> Result<JammingLaw> {
+        let law = Self::fit_to_edge(phi, eta_r)?;
+        if law.at_edge() {
+            let points: Vec<String> = phi
+                .iter()
+                .zip(eta_r)
+                .map(|(phi, eta_r)| format!("{eta_r:.2} at {phi:.3}"))
+                .collect();
+            return Err(SurrogateError::InvalidArgument(format!(
+                "phi_J runs to the edge of its search ({PHI_J_MAX}): eta_r = {} does not \
+                 diverge below it",
+                points.join(", ")
+            )));
+        }
+        Ok(law)
+    }
+
+    /// Whether `phi_J` is the search's upper edge rather than a minimum: the points it was
+    /// fitted to do not diverge below [`PHI_J_MAX`].
+    pub fn at_edge(&self) -> bool {
+        self.phi_j > PHI_J_MAX - PHI_J_EDGE
+    }
+
+    /// [`JammingLaw::fit`] without refusing a `phi_J` at the search's edge
+    /// ([`JammingLaw::at_edge`] tells).
+    pub fn fit_to_edge(phi: &[f64], eta_r: &[f64]) -> Result<JammingLaw> {
         if let Some(k) =
             (0..phi.len()).find(|&k| !(phi[k] > 0.0 && phi[k] < PHI_J_MAX && eta_r[k] > 1.0))
         {
@@ -106,18 +135,6 @@ impl JammingLaw {
             PHI_J_MAX,
             "fitting phi_J of the jamming law",
         )?;
-        if phi_j > PHI_J_MAX - PHI_J_EDGE {
-            let points: Vec<String> = phi
-                .iter()
-                .zip(eta_r)
-                .map(|(phi, eta_r)| format!("{eta_r:.2} at {phi:.3}"))
-                .collect();
-            return Err(SurrogateError::InvalidArgument(format!(
-                "phi_J runs to the edge of its search ({PHI_J_MAX}): eta_r = {} does not \
-                 diverge below it",
-                points.join(", ")
-            )));
-        }
         Ok(JammingLaw {
             phi_j,
             lambda: cost.lambda(phi_j),

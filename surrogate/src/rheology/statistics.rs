@@ -20,6 +20,13 @@ pub fn median(mut values: Vec<f64>) -> f64 {
     values[values.len() / 2]
 }
 
+/// The `q`-quantile (0 < q <= 1) of ascending `sorted` by nearest rank: the value at rank
+/// `ceil(q n)`; `None` when empty.
+pub fn nearest_rank_quantile(sorted: &[f64], q: f64) -> Option<f64> {
+    let rank = (q * sorted.len() as f64).ceil() as usize;
+    sorted.get(rank.clamp(1, sorted.len().max(1)) - 1).copied()
+}
+
 /// Variation and noise of one descriptor (e.g. Theta or Delta_v) along one profile.
 pub struct DescriptorStats {
     /// Standard deviation along y over the mean (coefficient of variation).
@@ -62,6 +69,15 @@ impl DescriptorStats {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn nearest_rank_quantiles_of_ten_values() {
+        let v: Vec<f64> = (1..=10).map(f64::from).collect();
+        // Ranks ceil(1.6) = 2, ceil(5) = 5, ceil(8.4) = 9, ceil(10) = 10.
+        let q = |q| nearest_rank_quantile(&v, q).unwrap();
+        assert_eq!((q(0.16), q(0.5), q(0.84), q(1.0)), (2.0, 5.0, 9.0, 10.0));
+        assert_eq!(nearest_rank_quantile(&[], 0.5), None);
+    }
 
     #[test]
     fn descriptor_stats_of_a_known_profile() {

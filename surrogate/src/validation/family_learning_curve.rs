@@ -3,15 +3,17 @@
 //!
 //! For each held-out family (the folds of [`crate::validation::family_folds`]) and each count
 //! `n` of training families, a model with the given hyper-parameters is fitted on the rows of
-//! `n` of the other families, drawn at random (`repeats` draws; one when `n` is all of them),
+//! `n` of the other families, drawn at random (`draws` times; once when `n` is all of them),
 //! and scored on the held-out rows by eq 6.6 with the outputs min-max scaled on the rows of
 //! *all* the other families, so that every `n` is measured with the same yardstick. With all
 //! the other families the point is the family cross-validation's own error for the same
 //! trees ([`crate::validation::family_cv`]). The errors are averaged over the draws per
 //! family, then over the families; the standard error is that of the mean over the
-//! families. A curve still falling at the full count says that more families would help; a
-//! flat one that the error is in what the mapping's inputs can tell, not in the data's
-//! extent.
+//! families. Since every count is measured on the same held-out families, its change from
+//! the full count is also given with the standard error of the paired differences, which
+//! is far smaller. A curve still falling at the full count says that more families would
+//! help; a flat one that the error is in what the mapping's inputs can tell, not in the
+//! data's extent.
 
 use ndarray::Axis;
 use rand::seq::SliceRandom;
@@ -41,6 +43,11 @@ pub struct LearningPoint {
     pub per_output: Vec<f64>,
     /// Standard error of that mean over the held-out families, per output.
     pub standard_error: Vec<f64>,
+    /// Mean over the held-out families of this count's error minus the full count's, per
+    /// output (0 at the full count).
+    pub change_from_full: Vec<f64>,
+    /// Standard error of that mean, from the spread of the paired differences.
+    pub change_standard_error: Vec<f64>,
 }
 
 /// The learning curve of one mapping.
@@ -48,8 +55,10 @@ pub struct LearningPoint {
 pub struct LearningCurve {
     pub mapping: String,
     pub outputs: Vec<String>,
+    /// Whether the trees learn the backbone's residual (backbone + XGBoost) or the outputs.
+    pub backbone: bool,
     /// Draws of the training families per held-out family and count below the full one.
-    pub repeats: usize,
+    pub draws: usize,
     /// The seed of the draws.
     pub seed: u64,
     /// One point per count, in increasing order; the last is all the other families.
@@ -58,25 +67,25 @@ pub struct LearningCurve {
 
 impl LearningCurve {
     /// The curve at the counts `families` (each between 1 and the number of families less
-    /// one; the full count is added when missing), with `repeats` (>= 1) seeded draws per
-    /// held-out family and count. The held-out families run in parallel on rayon's pool;
-    /// the result does not depend on the number of threads.
+    /// one; the full count is added when missing), with `draws` (1 to [`MAX_DRAWS`]) seeded
+    /// draws per held-out family and count. The held-out families run in parallel on
+    /// rayon's pool; the result does not depend on the number of threads.
     pub fn run(
         mapping: &Mapping,
         samples: &Samples,
         params: &HyperParameters,
         families: &[usize],
-        repeats: usize,
+        draws: usize,
         seed: u64,
     ) -> Result<Self> {
         let folds = leave_one_family_out(samples)?;
         let full = folds.len() - 1;
         let counts = counts_with_full(families, full)?;
-        if repeats == 0 {
-            return Err(SurrogateError::InvalidArgument(
-                "a learning curve needs at least one draw of training families per count"
-                    .to_owned(),
-            ));
+        if !(1..=MAX_DRAWS).contains(&draws) {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "a learning curve takes 1 to {MAX_DRAWS} draws of training families per \
+                 count, not {draws}"
+            )));
         }
         let all_families = samples.families.as_deref().unwrap_or_default();
         // Per held-out family, per count: the error of each output, averaged over the draws.
@@ -97,9 +106,11 @@ impl LearningCurve {
                 counts
                     .iter()
                     .map(|&n| {
-                        let draws = if n == full { 1 } else { repeats };
+                        let draws = if n == full { 1 } else { draws };
                         let mut sum = vec![0.0; samples.output_names.len()];
                         for draw in 0..draws {
+                            // One stream per (held-out family, count, draw): each below
+                            // 2^16 (counts are below the families, draws at most MAX_DRAWS).
                             let mut rng = ChaCha8Rng::seed_from_u64(seed);
                             rng.set_stream(((k as u64) << 32) | ((n as u64) << 16) | draw as u64);
                             let chosen: Vec<&String> =
@@ -128,33 +139,46 @@ impl LearningCurve {
                     .collect::<Result<Vec<Vec<f64>>>>()
             })
             .collect::<Result<Vec<_>>>()?;
+        let last = counts.len() - 1;
         let points = counts
             .iter()
             .enumerate()
             .map(|(c, &n)| {
-                let (per_output, standard_error) = (0..samples.output_names.len())
-                    .map(|j| {
-                        let values: Vec<f64> = per_fold.iter().map(|f| f[c][j]).collect();
-                        mean_and_standard_error(&values)
-                    })
-                    .unzip();
+                let over_folds = |value: &dyn Fn(&Vec<Vec<f64>>, usize) -> f64| {
+                    (0..samples.output_names.len())
+                        .map(|j| {
+                            let values: Vec<f64> = per_fold.iter().map(|f| value(f, j)).collect();
+                            mean_and_standard_error(&values)
+                        })
+                        .unzip::<f64, f64, Vec<f64>, Vec<f64>>()
+                };
+                let (per_output, standard_error) = over_folds(&|f, j| f[c][j]);
+                let (change_from_full, change_standard_error) =
+                    over_folds(&|f, j| f[c][j] - f[last][j]);
                 LearningPoint {
                     families: n,
-                    fits: folds.len() * if n == full { 1 } else { repeats },
+                    fits: folds.len() * if n == full { 1 } else { draws },
                     per_output,
                     standard_error,
+                    change_from_full,
+                    change_standard_error,
                 }
             })
             .collect();
         Ok(LearningCurve {
             mapping: mapping.name.to_owned(),
             outputs: samples.output_names.clone(),
-            repeats,
+            backbone: params.backbone,
+            draws,
             seed,
             points,
         })
     }
 }
+
+/// Most draws per held-out family and count (their index has 16 bits of the random
+/// stream's number).
+pub const MAX_DRAWS: usize = 1 << 12;
 
 /// `families` sorted and deduplicated, with `full` appended when missing; an error for a
 /// count outside 1..=full.
@@ -236,6 +260,25 @@ mod tests {
         assert!(e[0] > 2.0 * e[2], "{e:?}");
         assert!(e[1] > e[2], "{e:?}");
         assert!(curve.points.iter().all(|p| p.standard_error[0] > 0.0));
+        // The paired change from the full count: the difference of the means, zero at the
+        // full count itself.
+        let p = &curve.points[0];
+        assert!((p.change_from_full[0] - (e[0] - e[2])).abs() < 1e-12);
+        assert_eq!(curve.points[2].change_from_full[0], 0.0);
+    }
+
+    #[test]
+    fn the_curve_does_not_depend_on_the_thread_count() {
+        let samples = banded_families();
+        let on = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| LearningCurve::run(&MAPPINGS[0], &samples, &params(), &[2], 2, 9))
+                .unwrap()
+        };
+        assert_eq!(on(1), on(2));
     }
 
     #[test]
@@ -255,7 +298,10 @@ mod tests {
                 .to_string();
             assert!(e.contains("between 1 and 7"), "{e}");
         }
-        let e = LearningCurve::run(&MAPPINGS[0], &samples, &params(), &[2], 0, 1).unwrap_err();
-        assert!(e.to_string().contains("at least one draw"), "{e}");
+        for draws in [0, MAX_DRAWS + 1] {
+            let e =
+                LearningCurve::run(&MAPPINGS[0], &samples, &params(), &[2], draws, 1).unwrap_err();
+            assert!(e.to_string().contains("1 to 4096 draws"), "{e}");
+        }
     }
 }

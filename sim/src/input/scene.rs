@@ -697,6 +697,13 @@ impl Scene {
             .as_ref()
             .map(|m| Composition::of(m, &counts, file.fluid.eta, gdot_max, file.fluid.kt));
         let timestep = TimeStep::for_file(&file, rho, gdot_max);
+        if let Some(w) = thermal
+            .as_ref()
+            .filter(|_| gdot_max > 0.0)
+            .and_then(|t| thermal_scales::unresolved_relaxation_warning(timestep.dt, t.tau_i))
+        {
+            warnings.push(w);
+        }
         let mut scene = Scene {
             thermal,
             composition,

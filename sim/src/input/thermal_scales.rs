@@ -33,6 +33,30 @@ pub fn soft_contact_warning(kt: f64, k_n: f64, a: f64) -> Option<String> {
     })
 }
 
+/// Largest step, in units of the small spheres' velocity relaxation time
+/// `m / (6 pi eta a) = (2/9) tau_I`, without a warning in a sheared Brownian scene. Measured
+/// at Pe = 1, phi 0.45 and 0.50, rho = 0.05 (reports/brownian/README.md section 9): at 3.2
+/// relaxation times (the automatic step there) eta_r is 15-25 % high and its lubrication
+/// part 1.8-2x; at 0.32 the structural Brownian stress is converged and the lubrication
+/// part within 5-10 % of its value at 0.07.
+pub const RELAXATION_STEP_LIMIT: f64 = 0.35;
+
+/// The warning when the step `dt` of a sheared Brownian scene over-damps the velocity
+/// relaxation of its small spheres (`tau_i = rho a^2 / eta` of the small radius), more than
+/// [`RELAXATION_STEP_LIMIT`] relaxation times: the equilibrium is right there, the sheared
+/// stresses are not.
+pub fn unresolved_relaxation_warning(dt: f64, tau_i: f64) -> Option<String> {
+    let steps = dt / (2.0 / 9.0 * tau_i);
+    (steps > RELAXATION_STEP_LIMIT).then(|| {
+        format!(
+            "the step is {steps:.2} velocity relaxation times m/(6 pi eta a) of the small spheres \
+             (> {RELAXATION_STEP_LIMIT}): sheared Brownian stresses come out biased (eta_r 15-25 % \
+             high at 3.2, Pe 1); cut the step {:.1}x (run.dt_factor) or raise particles.rho",
+            steps / RELAXATION_STEP_LIMIT
+        )
+    })
+}
+
 /// Thermal energy and what it sets.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ThermalScales {
@@ -141,6 +165,18 @@ mod tests {
 
     /// Thesis Table 4.1 (a = 1, rho = eta = 0.1): kT = 0.017 gives tau_B = 5.9 and
     /// tau_I = 1; at gdot = 9e-3, Pe = 1.0; kT = 1.7e-6 at the same rate gives Pe = 1e4.
+    #[test]
+    fn an_over_damped_sheared_step_is_named() {
+        // rho = 0.05, a = 1, eta = 1: relaxation time 0.0111; the automatic 3.56e-2 is 3.2 of
+        // it, 3.56e-3 (0.1 of it) is 0.32, under the limit.
+        let w = unresolved_relaxation_warning(3.56e-2, 0.05).unwrap();
+        assert!(w.contains("3.20 velocity relaxation times"), "{w}");
+        assert!(w.contains("cut the step 9.2x"), "{w}");
+        assert!(unresolved_relaxation_warning(3.56e-3, 0.05).is_none());
+        // rho = 0.5: the automatic step is 0.32 relaxation times.
+        assert!(unresolved_relaxation_warning(3.56e-2, 0.5).is_none());
+    }
+
     #[test]
     fn table_4_1_scales() {
         let s = ThermalScales::new(0.017, 0.1, 0.1, 1.0, 9.0e-3);

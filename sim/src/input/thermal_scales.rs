@@ -42,11 +42,11 @@ pub fn soft_contact_warning(kt: f64, k_n: f64, a: f64) -> Option<String> {
 pub const RELAXATION_STEP_LIMIT: f64 = 0.35;
 
 /// The warning when the step `dt` of a sheared Brownian scene over-damps the velocity
-/// relaxation of its small spheres (`tau_i = rho a^2 / eta` of the small radius), more than
-/// [`RELAXATION_STEP_LIMIT`] relaxation times: the equilibrium is right there, the sheared
-/// stresses are not.
-pub fn unresolved_relaxation_warning(dt: f64, tau_i: f64) -> Option<String> {
-    let steps = dt / (2.0 / 9.0 * tau_i);
+/// relaxation of its small spheres (their [`crate::forces::drag::relaxation_time`]), more
+/// than [`RELAXATION_STEP_LIMIT`] relaxation times: the equilibrium is right there, the
+/// sheared stresses are not.
+pub fn unresolved_relaxation_warning(dt: f64, relaxation_time: f64) -> Option<String> {
+    let steps = dt / relaxation_time;
     (steps > RELAXATION_STEP_LIMIT).then(|| {
         format!(
             "the step is {steps:.2} velocity relaxation times m/(6 pi eta a) of the small spheres \
@@ -162,6 +162,8 @@ impl ThermalScales {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::forces::drag;
+    use crate::state::particles::sphere_mass;
 
     /// Thesis Table 4.1 (a = 1, rho = eta = 0.1): kT = 0.017 gives tau_B = 5.9 and
     /// tau_I = 1; at gdot = 9e-3, Pe = 1.0; kT = 1.7e-6 at the same rate gives Pe = 1e4.
@@ -169,12 +171,13 @@ mod tests {
     fn an_over_damped_sheared_step_is_named() {
         // rho = 0.05, a = 1, eta = 1: relaxation time 0.0111; the automatic 3.56e-2 is 3.2 of
         // it, 3.56e-3 (0.1 of it) is 0.32, under the limit.
-        let w = unresolved_relaxation_warning(3.56e-2, 0.05).unwrap();
+        let relaxation = |rho| drag::relaxation_time(sphere_mass(rho, 1.0), 1.0, 1.0);
+        let w = unresolved_relaxation_warning(3.56e-2, relaxation(0.05)).unwrap();
         assert!(w.contains("3.20 velocity relaxation times"), "{w}");
         assert!(w.contains("cut the step 9.2x"), "{w}");
-        assert!(unresolved_relaxation_warning(3.56e-3, 0.05).is_none());
+        assert!(unresolved_relaxation_warning(3.56e-3, relaxation(0.05)).is_none());
         // rho = 0.5: the automatic step is 0.32 relaxation times.
-        assert!(unresolved_relaxation_warning(3.56e-2, 0.5).is_none());
+        assert!(unresolved_relaxation_warning(3.56e-2, relaxation(0.5)).is_none());
     }
 
     #[test]

@@ -86,8 +86,14 @@ impl StatePoint {
         let Some((gk, gk_se)) = self.green_kubo else {
             return (f64::NAN, f64::NAN);
         };
+        let (hd, hd_se) = self.eta_r_hydrodynamic_drag();
+        (hd + gk, hd_se.hypot(gk_se))
+    }
+
+    /// The hydrodynamic viscosity: lubrication plus one-body drag, errors in quadrature.
+    pub fn eta_r_hydrodynamic_drag(&self) -> (f64, f64) {
         let ((h, h_se), (d, d_se)) = (self.parts[HYDRODYNAMIC], self.parts[DRAG]);
-        (h + d + gk, h_se.hypot(d_se).hypot(gk_se))
+        (h + d, h_se.hypot(d_se))
     }
 
     /// `eta_r` with the structural Brownian stress added (the seeds' low-Pe fit adds a
@@ -273,10 +279,7 @@ pub fn green_kubo_points(points: &[StatePoint], state: State) -> Result<Vec<Poin
         };
         let hydrodynamic = seed_mean(
             &sel.iter()
-                .map(|p| {
-                    let ((h, h_se), (d, d_se)) = (p.parts[HYDRODYNAMIC], p.parts[DRAG]);
-                    (h + d, h_se.hypot(d_se))
-                })
+                .map(|p| p.eta_r_hydrodynamic_drag())
                 .collect::<Vec<_>>(),
         );
         out.push(PointWithError {

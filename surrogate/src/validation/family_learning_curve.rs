@@ -88,6 +88,8 @@ impl LearningCurve {
             )));
         }
         let all_families = samples.families.as_deref().unwrap_or_default();
+        // All the other families can be chosen one way only.
+        let draws_at = |n: usize| if n == full { 1 } else { draws };
         // Per held-out family, per count: the error of each output, averaged over the draws.
         let per_fold = folds
             .par_iter()
@@ -106,7 +108,7 @@ impl LearningCurve {
                 counts
                     .iter()
                     .map(|&n| {
-                        let draws = if n == full { 1 } else { draws };
+                        let draws = draws_at(n);
                         let mut sum = vec![0.0; samples.output_names.len()];
                         for draw in 0..draws {
                             // One stream per (held-out family, count, draw): each below
@@ -157,7 +159,7 @@ impl LearningCurve {
                     over_folds(&|f, j| f[c][j] - f[last][j]);
                 LearningPoint {
                     families: n,
-                    fits: folds.len() * if n == full { 1 } else { draws },
+                    fits: folds.len() * draws_at(n),
                     per_output,
                     standard_error,
                     change_from_full,

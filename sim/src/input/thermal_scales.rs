@@ -38,20 +38,24 @@ pub fn soft_contact_warning(kt: f64, k_n: f64, a: f64) -> Option<String> {
 /// at Pe = 1, phi 0.45 and 0.50, rho = 0.05 (reports/brownian/README.md section 9): at 3.2
 /// relaxation times (the automatic step there) eta_r is 15-25 % high and its lubrication
 /// part 1.8-2x; at 0.32 the structural Brownian stress is converged and the lubrication
-/// part within 5-10 % of its value at 0.07.
+/// part within 5-10 % of its value at 0.07. The automatic implicit step of a sheared
+/// Brownian scene is capped at it.
 pub const RELAXATION_STEP_LIMIT: f64 = 0.35;
 
 /// The warning when the step `dt` of a sheared Brownian scene over-damps the velocity
 /// relaxation of its small spheres (their [`crate::forces::drag::relaxation_time`]), more
 /// than [`RELAXATION_STEP_LIMIT`] relaxation times: the equilibrium is right there, the
-/// sheared stresses are not.
+/// sheared stresses are not. The automatic implicit step is capped at the limit
+/// ([`crate::integrate::timestep::DtLimit::Relaxation`]), so only a step the scene sets
+/// (`run.dt`, or `run.dt_factor` above 1) can exceed it.
 pub fn unresolved_relaxation_warning(dt: f64, relaxation_time: f64) -> Option<String> {
     let steps = dt / relaxation_time;
     (steps > RELAXATION_STEP_LIMIT).then(|| {
         format!(
             "the step is {steps:.2} velocity relaxation times m/(6 pi eta a) of the small spheres \
              (> {RELAXATION_STEP_LIMIT}): sheared Brownian stresses come out biased (eta_r 15-25 % \
-             high at 3.2, Pe 1); cut the step {:.1}x (run.dt_factor) or raise particles.rho",
+             high at 3.2, Pe 1); cut the step {:.1}x (run.dt, run.dt_factor): the automatic \
+             step stays within the limit",
             steps / RELAXATION_STEP_LIMIT
         )
     })

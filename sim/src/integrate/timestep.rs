@@ -1,12 +1,14 @@
 //! Automatic time step (docs/physics.md section 5). The explicit velocity-Verlet scheme is
 //! limited by the contact spring, the one-body drag and the lubrication squeeze
 //! resistance at `xi_min`; the implicit step only by the contact spring and by accuracy.
-//! The step is a safety fraction of the tightest stability limit, capped by accuracy.
+//! The step is a safety fraction of the tightest stability limit, capped by accuracy and,
+//! with Brownian forces, by the thermal fraction and (under shear) the velocity relaxation.
 use crate::forces::drag;
 use crate::forces::force_field::ForceField;
 use crate::forces::repulsion::Repulsion;
 use crate::input::integrator::Integrator;
 use crate::input::scene::{Scene, SceneFile};
+use crate::input::thermal_scales::RELAXATION_STEP_LIMIT;
 use crate::output::run_summary::null_as_infinity;
 use crate::state::particles::sphere_mass;
 use serde::{Deserialize, Serialize};
@@ -23,6 +25,9 @@ pub enum DtLimit {
     /// Brownian scenes, implicit step: a fraction of the contact limit that keeps the
     /// kinetic temperature within 2 % of kT (see [`THERMAL_FRACTION`]).
     Thermal,
+    /// Sheared Brownian scenes, implicit step: [`RELAXATION_STEP_LIMIT`] velocity
+    /// relaxation times of the smallest spheres, beyond which the sheared stresses are biased.
+    Relaxation,
     /// Set by the scene's `run.dt`.
     User,
 }
@@ -43,6 +48,7 @@ impl std::fmt::Display for DtLimit {
             DtLimit::Lubrication => "lubrication",
             DtLimit::Accuracy => "accuracy",
             DtLimit::Thermal => "thermal",
+            DtLimit::Relaxation => "relaxation",
             DtLimit::User => "user",
         };
         f.write_str(s)
@@ -108,15 +114,21 @@ impl TimeStep {
     /// Critical steps over every species pair, and the step the scene asks for: `run.dt`
     /// if given, else `dt_safety * dt_factor` times the tightest stability limit of the
     /// scene's integrator (explicit: contact, drag, lubrication; implicit: contact), the
-    /// implicit one capped by `dt_factor * accuracy_limit`.
+    /// implicit one capped by `dt_factor * accuracy_limit` and, with Brownian forces, by
+    /// `dt_factor` times [`THERMAL_FRACTION`] of the contact limit and, when sheared
+    /// (`gdot_max > 0`), [`RELAXATION_STEP_LIMIT`] times the smallest spheres' velocity
+    /// relaxation time `m / (6 pi eta a)`.
     pub fn choose(file: &SceneFile, rho: f64, gdot_max: f64, field: &ForceField) -> TimeStep {
         let eta = file.fluid.eta;
         let radii = &file.particles.radii;
         let mass = |a: f64| sphere_mass(rho, a);
         let (mut contact, mut drag, mut lub) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        let mut relaxation = f64::INFINITY;
         for (s_i, &a_i) in radii.iter().enumerate() {
+            let relaxation_i = drag::relaxation_time(mass(a_i), eta, a_i);
+            relaxation = relaxation.min(relaxation_i);
             if field.drag {
-                drag = drag.min(2.0 * drag::relaxation_time(mass(a_i), eta, a_i));
+                drag = drag.min(2.0 * relaxation_i);
             }
             for (s_j, &a_j) in radii.iter().enumerate() {
                 let m_red = mass(a_i) * mass(a_j) / (mass(a_i) + mass(a_j));
@@ -154,9 +166,14 @@ impl TimeStep {
         if run.integrator == Integrator::Implicit && accuracy * run.dt_factor < dt {
             (dt, limit) = (accuracy * run.dt_factor, DtLimit::Accuracy);
         }
+        let brownian = run.integrator == Integrator::Implicit && file.fluid.kt > 0.0;
         let thermal = THERMAL_FRACTION * contact * run.dt_factor;
-        if run.integrator == Integrator::Implicit && file.fluid.kt > 0.0 && thermal < dt {
+        if brownian && thermal < dt {
             (dt, limit) = (thermal, DtLimit::Thermal);
+        }
+        let relaxed = RELAXATION_STEP_LIMIT * relaxation * run.dt_factor;
+        if brownian && gdot_max > 0.0 && relaxed < dt {
+            (dt, limit) = (relaxed, DtLimit::Relaxation);
         }
         if let Some(user) = run.dt {
             (dt, limit) = (user, DtLimit::User);

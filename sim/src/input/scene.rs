@@ -1,7 +1,6 @@
 //! Scene files (TOML): the box, particles, fluid, force terms and run length, validated
 //! field by field, with the derived quantities a run needs (N, Stokes number, bins).
 use crate::error::SimError;
-use crate::forces::drag;
 use crate::forces::repulsion::Repulsion;
 use crate::input::composition::{self, Composition, MixtureSection};
 use crate::input::flow_profile::FlowProfile;
@@ -12,7 +11,7 @@ use crate::input::scene_limits::{self, show, PHI_MAX};
 use crate::input::thermal_scales::{self, ThermalScales};
 use crate::integrate::timestep::TimeStep;
 use crate::sampling::conventions::Conventions;
-use crate::state::particles::{sphere_mass, sphere_volume};
+use crate::state::particles::sphere_volume;
 use schema::scene_name;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -698,8 +697,7 @@ impl Scene {
             .as_ref()
             .map(|m| Composition::of(m, &counts, file.fluid.eta, gdot_max, file.fluid.kt));
         let timestep = TimeStep::for_file(&file, rho, gdot_max);
-        let relaxation =
-            drag::relaxation_time(sphere_mass(rho, a_thermal), file.fluid.eta, a_thermal);
+        let relaxation = TimeStep::relaxation_time(&file, rho);
         if let Some(w) = (thermal.is_some() && gdot_max > 0.0)
             .then(|| thermal_scales::unresolved_relaxation_warning(timestep.dt, relaxation))
             .flatten()

@@ -169,8 +169,6 @@ mod tests {
     use crate::forces::drag;
     use crate::state::particles::sphere_mass;
 
-    /// Thesis Table 4.1 (a = 1, rho = eta = 0.1): kT = 0.017 gives tau_B = 5.9 and
-    /// tau_I = 1; at gdot = 9e-3, Pe = 1.0; kT = 1.7e-6 at the same rate gives Pe = 1e4.
     #[test]
     fn an_over_damped_sheared_step_is_named() {
         // rho = 0.05, a = 1, eta = 1: relaxation time 0.0111; the automatic 3.56e-2 is 3.2 of
@@ -184,6 +182,8 @@ mod tests {
         assert!(unresolved_relaxation_warning(3.56e-2, relaxation(0.5)).is_none());
     }
 
+    /// Thesis Table 4.1 (a = 1, rho = eta = 0.1): kT = 0.017 gives tau_B = 5.9 and
+    /// tau_I = 1; at gdot = 9e-3, Pe = 1.0; kT = 1.7e-6 at the same rate gives Pe = 1e4.
     #[test]
     fn table_4_1_scales() {
         let s = ThermalScales::new(0.017, 0.1, 0.1, 1.0, 9.0e-3);

@@ -123,12 +123,9 @@ impl TimeStep {
         let radii = &file.particles.radii;
         let mass = |a: f64| sphere_mass(rho, a);
         let (mut contact, mut drag, mut lub) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
-        let mut relaxation = f64::INFINITY;
         for (s_i, &a_i) in radii.iter().enumerate() {
-            let relaxation_i = drag::relaxation_time(mass(a_i), eta, a_i);
-            relaxation = relaxation.min(relaxation_i);
             if field.drag {
-                drag = drag.min(2.0 * relaxation_i);
+                drag = drag.min(2.0 * drag::relaxation_time(mass(a_i), eta, a_i));
             }
             for (s_j, &a_j) in radii.iter().enumerate() {
                 let m_red = mass(a_i) * mass(a_j) / (mass(a_i) + mass(a_j));
@@ -171,7 +168,7 @@ impl TimeStep {
         if brownian && thermal < dt {
             (dt, limit) = (thermal, DtLimit::Thermal);
         }
-        let relaxed = RELAXATION_STEP_LIMIT * relaxation * run.dt_factor;
+        let relaxed = RELAXATION_STEP_LIMIT * Self::relaxation_time(file, rho) * run.dt_factor;
         if brownian && gdot_max > 0.0 && relaxed < dt {
             (dt, limit) = (relaxed, DtLimit::Relaxation);
         }
@@ -187,6 +184,17 @@ impl TimeStep {
             accuracy_limit: accuracy,
             integrator: run.integrator,
         }
+    }
+
+    /// Velocity relaxation time `m / (6 pi eta a)` of the scene's smallest spheres at
+    /// particle density `rho`: the unit of the sheared Brownian cap
+    /// ([`DtLimit::Relaxation`]) and of its warning.
+    pub fn relaxation_time(file: &SceneFile, rho: f64) -> f64 {
+        file.particles
+            .radii
+            .iter()
+            .map(|&a| drag::relaxation_time(sphere_mass(rho, a), file.fluid.eta, a))
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// The step a scene of `file` runs with, at particle density `rho` and largest shear

@@ -698,7 +698,8 @@ impl Scene {
             .map(|m| Composition::of(m, &counts, file.fluid.eta, gdot_max, file.fluid.kt));
         let timestep = TimeStep::for_file(&file, rho, gdot_max);
         let relaxation = TimeStep::relaxation_time(&file, rho);
-        if let Some(w) = (thermal.is_some() && gdot_max > 0.0)
+        if let Some(w) = thermal
+            .is_some()
             .then(|| thermal_scales::unresolved_relaxation_warning(timestep.dt, relaxation))
             .flatten()
         {

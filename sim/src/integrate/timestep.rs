@@ -2,7 +2,7 @@
 //! limited by the contact spring, the one-body drag and the lubrication squeeze
 //! resistance at `xi_min`; the implicit step only by the contact spring and by accuracy.
 //! The step is a safety fraction of the tightest stability limit, capped by accuracy and,
-//! with Brownian forces, by the thermal fraction and (under shear) the velocity relaxation.
+//! with Brownian forces, by the thermal fraction and the velocity relaxation.
 use crate::forces::drag;
 use crate::forces::force_field::ForceField;
 use crate::forces::repulsion::Repulsion;
@@ -25,8 +25,9 @@ pub enum DtLimit {
     /// Brownian scenes, implicit step: a fraction of the contact limit that keeps the
     /// kinetic temperature within 2 % of kT (see [`THERMAL_FRACTION`]).
     Thermal,
-    /// Sheared Brownian scenes, implicit step: [`RELAXATION_STEP_LIMIT`] velocity
-    /// relaxation times of the smallest spheres, beyond which the sheared stresses are biased.
+    /// Brownian scenes, implicit step: [`RELAXATION_STEP_LIMIT`] velocity relaxation times
+    /// of the smallest spheres, beyond which the stresses (sheared, and their fluctuations
+    /// at rest) are biased.
     Relaxation,
     /// Set by the scene's `run.dt`.
     User,
@@ -115,9 +116,9 @@ impl TimeStep {
     /// if given, else `dt_safety * dt_factor` times the tightest stability limit of the
     /// scene's integrator (explicit: contact, drag, lubrication; implicit: contact), the
     /// implicit one capped by `dt_factor * accuracy_limit` and, with Brownian forces, by
-    /// `dt_factor` times [`THERMAL_FRACTION`] of the contact limit and, when sheared
-    /// (`gdot_max > 0`), [`RELAXATION_STEP_LIMIT`] times the smallest spheres' velocity
-    /// relaxation time `m / (6 pi eta a)`.
+    /// `dt_factor` times [`THERMAL_FRACTION`] of the contact limit and by `dt_factor` times
+    /// [`RELAXATION_STEP_LIMIT`] times the smallest spheres' velocity relaxation time
+    /// `m / (6 pi eta a)`.
     pub fn choose(file: &SceneFile, rho: f64, gdot_max: f64, field: &ForceField) -> TimeStep {
         let eta = file.fluid.eta;
         let radii = &file.particles.radii;
@@ -169,7 +170,7 @@ impl TimeStep {
             (dt, limit) = (thermal, DtLimit::Thermal);
         }
         let relaxed = RELAXATION_STEP_LIMIT * Self::relaxation_time(file, rho) * run.dt_factor;
-        if brownian && gdot_max > 0.0 && relaxed < dt {
+        if brownian && relaxed < dt {
             (dt, limit) = (relaxed, DtLimit::Relaxation);
         }
         if let Some(user) = run.dt {
@@ -187,8 +188,8 @@ impl TimeStep {
     }
 
     /// Velocity relaxation time `m / (6 pi eta a)` of the scene's smallest spheres at
-    /// particle density `rho`: the unit of the sheared Brownian cap
-    /// ([`DtLimit::Relaxation`]) and of its warning.
+    /// particle density `rho`: the unit of the Brownian cap ([`DtLimit::Relaxation`]) and of
+    /// its warning.
     pub fn relaxation_time(file: &SceneFile, rho: f64) -> f64 {
         file.particles
             .radii

@@ -46,7 +46,8 @@ pub const RELAXATION_STEP_LIMIT: f64 = 0.35;
 /// The warning when the step `dt` of a Brownian scene over-damps the velocity relaxation
 /// of its small spheres (their [`crate::forces::drag::relaxation_time`]), more than
 /// [`RELAXATION_STEP_LIMIT`] relaxation times: the equilibrium structure is right there,
-/// the sheared stresses and the stress fluctuations at rest are not. The automatic implicit step is capped at the limit
+/// the sheared stresses and the stress fluctuations at rest are not. The automatic
+/// implicit step is capped at the limit
 /// ([`crate::integrate::timestep::DtLimit::Relaxation`]), so only a step the scene sets
 /// (`run.dt`, or `run.dt_factor` above 1) can exceed it.
 pub fn unresolved_relaxation_warning(dt: f64, relaxation_time: f64) -> Option<String> {
@@ -55,8 +56,8 @@ pub fn unresolved_relaxation_warning(dt: f64, relaxation_time: f64) -> Option<St
         format!(
             "the step is {steps:.2} velocity relaxation times m/(6 pi eta a) of the small spheres \
              (> {RELAXATION_STEP_LIMIT}): Brownian stresses come out biased (at 3.2: eta_r 15-25 % \
-             high at Pe 1, the Green-Kubo viscosity 2.4x at rest); cut the step {:.1}x (run.dt, run.dt_factor): the automatic \
-             step stays within the limit",
+             high at Pe 1, the Green-Kubo viscosity 2.4x at rest); cut the step {:.1}x \
+             (run.dt, run.dt_factor): the automatic step stays within the limit",
             steps / RELAXATION_STEP_LIMIT
         )
     })

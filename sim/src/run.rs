@@ -13,6 +13,7 @@ use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::block_sums::BlockSums;
 use crate::sampling::shear_rheology::ShearRheology;
 use crate::sampling::snapshot::{self, Sampler, StepPairSums};
+use crate::sampling::species_temperatures::SpeciesTemperatureSums;
 use crate::sampling::steady_state::SteadyState;
 use crate::sampling::stress_checks::stress_checks;
 use crate::sampling::stress_parts::StressParts;
@@ -94,6 +95,9 @@ struct RunState {
     /// The pair sums of those steps (Brownian scenes, implicit step).
     #[serde(default)]
     step_pairs: StepPairSums,
+    /// Kinetic temperatures per species over the averaging (Brownian scenes).
+    #[serde(default)]
+    temperatures: SpeciesTemperatureSums,
 }
 
 /// Everything a resumed run needs, written at checkpoints.
@@ -118,6 +122,7 @@ fn fresh_state(scene: &Scene) -> RunState {
         wall_s: 0.0,
         steps_into_sample: 0,
         step_pairs: StepPairSums::default(),
+        temperatures: SpeciesTemperatureSums::default(),
     }
 }
 
@@ -370,6 +375,12 @@ pub fn run(
             Phase::Averaging => {
                 st.overlap_mean_sum += sim.contacts.mean_overlap();
                 st.overlap_max = st.overlap_max.max(sim.contacts.max_overlap_ratio);
+                if let Some(thermal) = &scene.thermal {
+                    let a = &st.averaging;
+                    let block = ((a.taken - 1) / a.per_block).min(a.sums.len() - 1);
+                    let shape = (scene.file.particles.radii.len(), a.sums.len());
+                    st.temperatures.add(&sim, thermal.kt, block, shape);
+                }
             }
         }
         progress(
@@ -430,6 +441,7 @@ pub fn run(
         momentum_residual: profile.momentum_residual,
         stress_checks: stress_checks(&ctx, &st.averaging),
         stress_parts: stress.box_totals.clone(),
+        temperatures: st.temperatures.estimates(&scene.file.particles.radii),
         shear: scene
             .shear_rate()
             .map(|g| ShearRheology::from_blocks(&ctx, &st.averaging, g)),

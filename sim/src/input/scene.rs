@@ -131,6 +131,12 @@ pub struct ForceSection {
     /// Lubrication outer cut-off of the dimensionless gap.
     #[serde(default = "default_xi_max")]
     pub xi_max: f64,
+    /// Width (in the dimensionless gap) of the taper beyond `xi_max` over which the
+    /// lubrication resistance falls smoothly to zero; 0 = the seeds' sharp cut. Absent:
+    /// `xi_max` in a Brownian scene (filled in when the scene is read, docs/physics.md
+    /// section 11), 0 otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub xi_taper: Option<f64>,
     /// Short-range repulsion `A / kT` (dimensionless; paper eq 4.2, thesis eq 4.4,
     /// docs/physics.md section 11): the amplitude `A = repulsion * fluid.kT`, so it needs
     /// `fluid.kT > 0`; 0 = off, and then nothing of it is evaluated.
@@ -139,14 +145,20 @@ pub struct ForceSection {
 }
 
 impl ForceSection {
+    /// The lubrication taper's width (`xi_taper`, 0 when absent).
+    pub fn taper_width(&self) -> f64 {
+        self.xi_taper.unwrap_or(0.0)
+    }
+
     /// Interaction range of a pair at contact distance `a_i + a_j` (units a): the
-    /// lubrication cut-off `(a_i + a_j)(1 + xi_max / 2)`, where the gap
-    /// `xi = 2 (r - a_i - a_j) / (a_i + a_j)` reaches `xi_max` (docs/physics.md section 4),
+    /// lubrication cut-off `(a_i + a_j)(1 + (xi_max + xi_taper) / 2)`, where the gap
+    /// `xi = 2 (r - a_i - a_j) / (a_i + a_j)` reaches the taper's end (docs/physics.md
+    /// section 4),
     /// or the contact distance without lubrication; with the repulsion on, at least its
     /// cut-off `1.1 (a_i + a_j)`, a gap of 10 Debye lengths ([`Repulsion::reach`]).
     pub fn reach(&self, contact_distance: f64) -> f64 {
         let reach = if self.lubrication {
-            contact_distance * (1.0 + 0.5 * self.xi_max)
+            contact_distance * (1.0 + 0.5 * (self.xi_max + self.taper_width()))
         } else {
             contact_distance
         };
@@ -482,6 +494,9 @@ impl Scene {
                 format!("must be >= 0 (0 = non-Brownian), got {}", file.fluid.kt),
             ));
         }
+        if file.fluid.kt > 0.0 && file.forces.lubrication && file.forces.xi_taper.is_none() {
+            file.forces.xi_taper = Some(file.forces.xi_max);
+        }
         let f = &file.forces;
         if !(f.contact || f.drag || f.lubrication) {
             return Err(SimError::field(
@@ -503,6 +518,15 @@ impl Scene {
             return Err(SimError::field(
                 "forces.xi_min",
                 format!("must be below forces.xi_max ({} >= {})", f.xi_min, f.xi_max),
+            ));
+        }
+        if !(f.taper_width().is_finite() && f.taper_width() >= 0.0) {
+            return Err(SimError::field(
+                "forces.xi_taper",
+                format!(
+                    "must be >= 0 (0 = the sharp cut at forces.xi_max), got {}",
+                    show(f.taper_width())
+                ),
             ));
         }
         if !(f.repulsion.is_finite() && f.repulsion >= 0.0) {
@@ -696,13 +720,8 @@ impl Scene {
             .mixture
             .as_ref()
             .map(|m| Composition::of(m, &counts, file.fluid.eta, gdot_max, file.fluid.kt));
-        let timestep = TimeStep::for_file(&file, rho, gdot_max);
-        let relaxation = TimeStep::relaxation_time(&file, rho);
-        if let Some(w) = thermal
-            .is_some()
-            .then(|| thermal_scales::unresolved_relaxation_warning(timestep.dt, relaxation))
-            .flatten()
-        {
+        let timestep = TimeStep::for_file(&file, rho, gdot_max, &counts);
+        if let Some(w) = timestep.brownian_warning() {
             warnings.push(w);
         }
         let mut scene = Scene {

@@ -259,7 +259,7 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
     println!(
         "run time: at most about {} here (at {:.1e} particle-steps/s)",
         RunCost::describe(cost.seconds()),
-        sim::input::run_cost::PARTICLE_STEPS_PER_S
+        cost.rate
     );
     Ok(())
 }

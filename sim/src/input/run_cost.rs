@@ -9,6 +9,11 @@ use crate::input::scene_limits::show;
 /// report ran at 9.0-9.3e5 (README, Report), rounded up so that estimates err short.
 pub const PARTICLE_STEPS_PER_S: f64 = 1e6;
 
+/// The same for a Brownian scene's implicit (midpoint) step, two force evaluations and two
+/// solves a step: `suspflow bench --brownian --n 1000` runs 1.4-1.6e5 per core (two cores
+/// 3e5), dense frictional suspensions about a third of that (docs/physics.md section 11).
+pub const BROWNIAN_PARTICLE_STEPS_PER_S: f64 = 3e5;
+
 /// Estimated wall time above which a scene is announced with a warning (one day).
 pub const WARN_SECONDS: f64 = 86_400.0;
 
@@ -26,6 +31,9 @@ pub struct RunCost {
     pub equilibration_particle_steps: f64,
     /// Particle-steps of the averaging (`run.snapshots` x `run.sample_strain`).
     pub averaging_particle_steps: f64,
+    /// Particle-steps per second here ([`PARTICLE_STEPS_PER_S`] or, for a Brownian scene,
+    /// [`BROWNIAN_PARTICLE_STEPS_PER_S`]).
+    pub rate: f64,
 }
 
 impl RunCost {
@@ -38,12 +46,17 @@ impl RunCost {
             steps_per_strain,
             equilibration_particle_steps: steps_per_strain * r.max_strain * n,
             averaging_particle_steps: steps_per_strain * r.sample_strain * r.snapshots as f64 * n,
+            rate: if scene.thermal.is_some() {
+                BROWNIAN_PARTICLE_STEPS_PER_S
+            } else {
+                PARTICLE_STEPS_PER_S
+            },
         }
     }
 
-    /// Estimated wall time at most (s) here, at [`PARTICLE_STEPS_PER_S`].
+    /// Estimated wall time at most (s) here, at [`Self::rate`].
     pub fn seconds(&self) -> f64 {
-        (self.equilibration_particle_steps + self.averaging_particle_steps) / PARTICLE_STEPS_PER_S
+        (self.equilibration_particle_steps + self.averaging_particle_steps) / self.rate
     }
 
     /// A duration for people: seconds, hours, days or years.
@@ -69,7 +82,7 @@ impl RunCost {
             self.steps_per_strain,
             self.equilibration_particle_steps + self.averaging_particle_steps,
             Self::describe(s),
-            show(PARTICLE_STEPS_PER_S)
+            show(self.rate)
         );
         if !(..=REFUSE_SECONDS).contains(&s) {
             return Err(SimError::field(
@@ -94,6 +107,7 @@ mod tests {
             steps_per_strain: 1e3,
             equilibration_particle_steps: seconds * PARTICLE_STEPS_PER_S,
             averaging_particle_steps: 0.0,
+            rate: PARTICLE_STEPS_PER_S,
         }
     }
 

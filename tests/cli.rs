@@ -898,28 +898,29 @@ fn option_values_beyond_their_limits_are_refused() {
     assert!(!Path::new(out).exists(), "nothing written");
 }
 
-/// SIGTERM (a batch scheduler's time limit) stops a run with a checkpoint, as Ctrl-C does;
-/// a second `simulate` on the same `--out` is refused while the first runs; a resumed run
-/// that finishes removes its checkpoint, so a plain re-run calls it finished.
+/// SIGTERM (a batch scheduler's time limit) stops a run with a checkpoint, as Ctrl-C does,
+/// with the exit status of an interrupted run (75); a second `simulate` on the same `--out`
+/// is refused while the first runs; a resumed run that finishes keeps its final state, so
+/// that a plain re-run calls it finished and a longer run of its scene continues it.
 #[test]
-fn sigterm_checkpoints_a_run_held_by_its_lock_and_a_finished_resume_leaves_none() {
+fn sigterm_checkpoints_a_run_held_by_its_lock_and_a_finished_run_can_be_extended() {
     let dir = scratch("sigterm");
     std::fs::create_dir_all(&dir).unwrap();
     let scene = dir.join("long.toml");
     let text = std::fs::read_to_string(root().join("tests/scenes/good/tiny.toml")).unwrap();
     std::fs::write(&scene, text.replace("snapshots = 40", "snapshots = 2000")).unwrap();
     let out = dir.join("run");
-    let (scene, out_s) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let (scene_s, out_s) = (scene.to_str().unwrap(), out.to_str().unwrap());
     let first = Command::new(env!("CARGO_BIN_EXE_suspflow"))
-        .args(["simulate", scene, "--out", out_s])
+        .args(["simulate", scene_s, "--out", out_s])
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    while !out.join("simulate.lock").exists() {
+    while !out.join("run.lock").exists() {
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    let second = suspflow(&["simulate", scene, "--out", out_s, "--force"]);
+    let second = suspflow(&["simulate", scene_s, "--out", out_s, "--force"]);
     let stderr = String::from_utf8_lossy(&second.stderr);
     assert!(
         !second.status.success() && stderr.contains("is in use by another `suspflow simulate`"),
@@ -936,17 +937,101 @@ fn sigterm_checkpoints_a_run_held_by_its_lock_and_a_finished_resume_leaves_none(
     let stopped = first.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&stopped.stderr);
     assert!(
-        !stopped.status.success() && stderr.contains("continue with --resume"),
-        "{stderr}"
+        stopped.status.code() == Some(75) && stderr.contains("continue with --resume"),
+        "{:?}: {stderr}",
+        stopped.status
     );
     assert!(out.join("checkpoint.json").exists());
-    assert_ok(&suspflow(&["simulate", scene, "--out", out_s, "--resume"]));
-    assert!(out.join("profile.csv").exists() && !out.join("checkpoint.json").exists());
-    let rerun = suspflow(&["simulate", scene, "--out", out_s]);
+    assert_ok(&suspflow(&[
+        "simulate", scene_s, "--out", out_s, "--resume",
+    ]));
+    assert!(out.join("profile.csv").exists() && out.join("scene.toml").exists());
+    let rerun = suspflow(&["simulate", scene_s, "--out", out_s]);
     let stderr = String::from_utf8_lossy(&rerun.stderr);
     assert!(
         stderr.contains("(the result of an earlier run)"),
         "{stderr}"
+    );
+    // Twice the snapshots in twice the blocks: the finished run goes on.
+    let longer = text
+        .replace("snapshots = 40", "snapshots = 4000")
+        .replace("blocks = 4", "blocks = 8");
+    std::fs::write(&scene, longer).unwrap();
+    let extended = suspflow(&["simulate", scene_s, "--out", out_s, "--resume"]);
+    assert_ok(&extended);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["snapshots"], 4000);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Green-Kubo at rest has the lifecycle of every run: SIGTERM stops it with its checkpoint
+/// (exit status 75) and `--resume` finishes it with the uninterrupted run's numbers, bit
+/// for bit.
+#[test]
+fn green_kubo_resumes_bit_for_bit_after_sigterm() {
+    let dir = scratch("green-kubo-sigterm");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("eq.toml");
+    std::fs::write(
+        &scene,
+        "box = { l_x = 10.0, l_y = 10.0, l_z = 10.0 }\n\
+         particles = { phi = 0.3, rho = 0.5 }\nfluid = { kT = 0.2 }\n",
+    )
+    .unwrap();
+    let args = |out: &Path| {
+        vec![
+            "green-kubo".to_string(),
+            scene.to_str().unwrap().to_string(),
+            "--out".into(),
+            out.to_str().unwrap().to_string(),
+            "--warmup".into(),
+            "1".into(),
+            "--span".into(),
+            "400".into(),
+            "--max-lag".into(),
+            "0.5".into(),
+            "--threads".into(),
+            "1".into(),
+        ]
+    };
+    let whole = dir.join("whole");
+    let a = args(&whole);
+    assert_ok(&suspflow(&a.iter().map(String::as_str).collect::<Vec<_>>()));
+    let stopped = dir.join("stopped");
+    let child = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+        .args(args(&stopped))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    while !stopped.join("run.lock").exists() {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(800));
+    assert!(Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let ended = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&ended.stderr);
+    assert!(
+        ended.status.code() == Some(75) && stderr.contains("continue with --resume"),
+        "{:?}: {stderr}",
+        ended.status
+    );
+    assert!(stopped.join("checkpoint.json").exists() && !stopped.join("green_kubo.json").exists());
+    let mut resume = args(&stopped);
+    resume.push("--resume".into());
+    assert_ok(&suspflow(
+        &resume.iter().map(String::as_str).collect::<Vec<_>>(),
+    ));
+    let read = |d: &Path| std::fs::read_to_string(d.join("green_kubo.csv")).unwrap();
+    assert_eq!(
+        read(&stopped),
+        read(&whole),
+        "the resumed correlation differs"
     );
     std::fs::remove_dir_all(&dir).ok();
 }

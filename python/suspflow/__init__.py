@@ -127,7 +127,7 @@ def simulate(
     callback = _progress_line if progress is True else (progress or None)
     try:
         summary = _native.simulate(
-            scene, os.fspath(out), threads, resume, snapshot, snapshot_format, callback
+            scene, os.fspath(out), threads, not resume, snapshot, snapshot_format, callback
         )
     finally:
         if progress is True:

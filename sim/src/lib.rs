@@ -37,6 +37,7 @@ pub use input::scene::{Scene, SceneFile};
 pub use integrate::simulation::Simulation;
 pub use integrate::timestep::{DtLimit, TimeStep};
 pub use output::run_summary::{RunOutcome, RunSummary};
+pub use run::run_folder::RunFolder;
 pub use run::RunOptions;
 pub use sampling::bin_averages::BinAverages;
 pub use state::Vec3;

@@ -17,11 +17,12 @@
 //! one-body drag stresslet under `pairs+drag`, as the shipped datasets were made).
 use crate::plots::data_and_laws::{self, Points};
 use crate::plots::loglog::Line;
-use crate::scene_work::{Recorded, SceneStatus, SceneWork};
 use anyhow::{bail, Context};
+use schema::write_atomic;
 use sim::input::grid::Grid;
-use sim::output::atomic_write::write_atomic;
+use sim::output::result_files::RESULTS;
 use sim::output::run_summary::RunSummary;
+use sim::run::run_folder::{Recorded, RunFolder, RunStatus};
 use sim::sampling::block_sums::Estimate;
 use sim::sampling::shear_rheology::ShearRheology;
 use std::collections::BTreeMap;
@@ -163,11 +164,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 gs.id
             );
         };
-        let work = SceneWork::new(&args.runs, &gs.label());
-        let SceneStatus::Done(summary) = work.status()? else {
+        let work = RunFolder::in_batch(&args.runs, &gs.label());
+        if work.status(&RESULTS) != RunStatus::Done {
             missing.push(gs.label());
             continue;
-        };
+        }
+        let summary = Box::new(work.summary()?);
         if work.recorded_scene(&gs.scene.file)? != Recorded::Same {
             bail!(
                 "{}: the run there was not made for scene {} of {} (another shear rate, \

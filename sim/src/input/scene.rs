@@ -767,6 +767,12 @@ impl Scene {
         self.profile.max_abs_shear_rate()
     }
 
+    /// Time steps per unit of the run's clock (strain, or Brownian time without flow; see
+    /// [`Scene::clock_rate`]).
+    pub fn steps_per_strain(&self) -> f64 {
+        1.0 / (self.clock_rate() * self.timestep.dt)
+    }
+
     /// The rate of the run's clock, in which its lengths (`run.sample_strain`,
     /// `window_strain`, `max_strain`) are counted: the largest shear rate (the clock is the
     /// strain), or without flow `1 / tau_B` (the clock counts Brownian times).

@@ -71,6 +71,19 @@ pub struct RunSummary {
     pub code_version: String,
 }
 
+impl RunSummary {
+    /// Reads the summary a finished run wrote at `path` (see
+    /// [`write_results`](crate::output::result_files::write_results)).
+    pub fn read(path: &std::path::Path) -> Result<RunSummary, crate::error::SimError> {
+        let err = |message: String| crate::error::SimError::Output {
+            path: path.display().to_string(),
+            message,
+        };
+        let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
+        serde_json::from_slice(&bytes).map_err(|e| err(format!("not a run summary: {e}")))
+    }
+}
+
 /// Reads a number that JSON holds as `null` when it was not finite (serde_json writes NaN
 /// and the infinities so) as NaN.
 pub(crate) fn null_as_nan<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {

@@ -48,6 +48,18 @@ fn bad_scenes_are_refused_naming_the_field() {
     }
 }
 
+/// `--version` names the commit the binary was built from, as every result records it.
+#[test]
+fn version_names_the_commit() {
+    let out = suspflow(&["--version"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && text.starts_with("suspflow 0.1.0+"),
+        "{text}"
+    );
+    assert!(!text.contains("unknown"), "{text}");
+}
+
 #[test]
 fn shipped_scenes_are_valid() {
     let mut scenes = scenes_in(&root().join("scenes"));
@@ -600,11 +612,11 @@ fn green_kubo_integrates_an_equilibrium_run_and_refuses_what_it_cannot() {
     assert_ok(&ran);
     let stdout = String::from_utf8_lossy(&ran.stdout);
     assert!(stdout.contains("eta_B / eta = "), "{stdout}");
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("green_kubo.json")).unwrap())
-            .unwrap();
-    let eta_b = json["eta_brownian_over_eta"].as_f64().unwrap();
-    assert!(eta_b > 0.0 && eta_b.is_finite(), "{json}");
+    // The result reads back as the type that wrote it, beside the scene it ran.
+    let result = rheometry::GreenKuboResult::read(&out).unwrap();
+    let eta_b = result.eta_brownian_over_eta;
+    assert!(eta_b > 0.0 && eta_b.is_finite(), "{result:?}");
+    assert!(result.code_version.starts_with("0.1.0+") && out.join("scene.toml").exists());
     let (header, rows) = read_csv(&out.join("green_kubo.csv"));
     assert_eq!(header[3], "running_eta_over_eta");
     assert_eq!(rows[0][3].parse::<f64>().unwrap(), 0.0);
@@ -642,6 +654,9 @@ impl FlowCurvesRun {
         let out = dir.join("report");
         assert_ok(&flow_curves(grid, &runs, &out));
         let (header, rows) = read_csv(&out.join("flow_curves.csv"));
+        // The table reads back as the type that wrote it.
+        let typed = rheometry::FlowCurveRow::read_all(&out.join("flow_curves.csv")).unwrap();
+        assert_eq!(typed.len(), rows.len());
         FlowCurvesRun {
             dir,
             out,
@@ -719,13 +734,28 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
     for (k, phi) in phis.iter().enumerate() {
         let gk = run.dir.join(format!("gk{k}"));
         std::fs::create_dir_all(&gk).unwrap();
+        // A result as `green-kubo` writes it, by the type that writes it.
+        let result = rheometry::GreenKuboResult {
+            scene: format!("eq{k}"),
+            n_particles: 100,
+            phi_actual: *phi,
+            kt: 0.1,
+            tau_b: 10.0,
+            eta_brownian_over_eta: 1.0,
+            eta_brownian_over_eta_se: 0.1,
+            extrapolated_eta_brownian_over_eta: 2.0,
+            extrapolated_eta_brownian_over_eta_se: 0.2,
+            relaxation_tau_b: 0.5,
+            blocks: 10,
+            warmup_tau_b: 5.0,
+            span_tau_b: 100.0,
+            max_lag_tau_b: 5.0,
+            every_steps: 5,
+            code_version: "test".into(),
+        };
         std::fs::write(
             gk.join("green_kubo.json"),
-            format!(
-                "{{\"phi_actual\": {phi}, \"eta_brownian_over_eta\": 1.0, \
-                 \"eta_brownian_over_eta_se\": 0.1, \"extrapolated_eta_brownian_over_eta\": 2.0, \
-                 \"extrapolated_eta_brownian_over_eta_se\": 0.2}}"
-            ),
+            serde_json::to_string(&result).unwrap(),
         )
         .unwrap();
         args.extend(["--green-kubo".to_owned(), gk.to_str().unwrap().to_owned()]);

@@ -29,6 +29,9 @@ import pandas as pd
 from . import _native
 from ._native import CODE_VERSION, Scene, SuspflowError
 
+__version__ = CODE_VERSION
+"""The package's version and the commit it was built from (as ``suspflow --version``)."""
+
 __all__ = [
     "CODE_VERSION",
     "Scene",

@@ -17,23 +17,18 @@
 //! one-body drag stresslet under `pairs+drag`, as the shipped datasets were made).
 use crate::plots::data_and_laws::{self, Points};
 use crate::plots::loglog::Line;
-use anyhow::{bail, Context};
+use anyhow::Context;
+use rheometry::{FlowCurveRow, FlowRuns, GreenKuboResult, PARTS};
 use schema::write_atomic;
 use sim::input::grid::Grid;
-use sim::output::result_files::RESULTS;
-use sim::output::run_summary::RunSummary;
-use sim::run::run_folder::{Recorded, RunFolder, RunStatus};
-use sim::sampling::block_sums::Estimate;
-use sim::sampling::shear_rheology::ShearRheology;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use surrogate::rheology::local_viscosity::{self, LocalBand};
 use surrogate::{
-    bin_viscosity, green_kubo_at, green_kubo_points, keep_green_kubo_at_lowest_peclet, over_seeds,
-    part_viscosity, state_rows, states, volume_fractions, Curve, Dataset, JammingBootstrap,
-    JammingLaw, Quantiles, State, StateFits, StatePoint, CONVENTIONS, MIN_VOLUME_FRACTIONS,
-    PHI_J_MAX, SEEDS_LAW, SEEDS_LOW_PECLET_PHI_J,
+    green_kubo_points, keep_green_kubo_at_lowest_peclet, over_seeds, state_rows, states,
+    volume_fractions, Curve, Dataset, JammingBootstrap, JammingLaw, Quantiles, State, StateFits,
+    StatePoint, CONVENTIONS, MIN_VOLUME_FRACTIONS, PHI_J_MAX, SEEDS_LAW, SEEDS_LOW_PECLET_PHI_J,
 };
 
 /// Centres of the `phi_loc` bands of the local-versus-homogeneous table.
@@ -66,21 +61,6 @@ pub struct Args {
     force: bool,
 }
 
-/// The parts of `eta_r` a table and figure show: name in `flow_curves.csv`, legend, and
-/// the stress part (`schema::columns::STRESS_PARTS`) it is `-sigma_xy / (eta gdot)` of.
-/// `contact + lubrication` is the box's `eta_r`; the drag stresslet (the isolated spheres'
-/// `2.5 phi`) and the structural Brownian stress are reported beside them.
-const PARTS: [(&str, &str, &str); 4] = [
-    ("eta_r_contact", "contact", "sigma_xy_contact"),
-    (
-        "eta_r_hydrodynamic",
-        "hydrodynamic (lubrication)",
-        "sigma_xy_lubrication",
-    ),
-    ("eta_r_drag", "one-body drag", "sigma_xy_drag"),
-    ("eta_r_brownian", "structural Brownian", "sigma_xy_brownian"),
-];
-
 /// A state's name in the tables; its density only where `densities` (the runs hold more
 /// than one, [`several_densities`]).
 fn label(state: &State, densities: bool) -> String {
@@ -108,123 +88,15 @@ fn several_densities(points: &[StatePoint]) -> bool {
     points.iter().any(|p| p.state.rho != points[0].state.rho)
 }
 
-/// One finished scene: what the table shows of it beside its point on the flow curves.
-struct FlowPoint {
-    id: String,
-    summary: Box<RunSummary>,
-    rheology: ShearRheology,
-    /// Thermal energy (0 without Brownian forces).
-    kt: f64,
-    /// `tau_I / tau_B = rho kT / (eta^2 a)` of a Brownian scene.
-    inertia_diffusion: Option<f64>,
-    point: StatePoint,
-}
-
-/// The fields of a `suspflow green-kubo` result this command reads.
-#[derive(serde::Deserialize)]
-struct GreenKuboResult {
-    phi_actual: f64,
-    /// The running integral extrapolated to infinite lag, as the seeds did.
-    #[serde(rename = "extrapolated_eta_brownian_over_eta")]
-    eta_brownian_over_eta: f64,
-    #[serde(rename = "extrapolated_eta_brownian_over_eta_se")]
-    eta_brownian_over_eta_se: f64,
-}
-
-/// Each directory's result as `(phi_actual, eta_B / eta, its error)`.
-fn read_green_kubo(dirs: &[PathBuf]) -> anyhow::Result<Vec<(f64, f64, f64)>> {
-    dirs.iter()
-        .map(|d| {
-            let path = d.join("green_kubo.json");
-            let text = std::fs::read_to_string(&path).with_context(|| {
-                format!("reading {} (a `suspflow green-kubo` --out)", path.display())
-            })?;
-            let g: GreenKuboResult = serde_json::from_str(&text)
-                .with_context(|| format!("reading {}", path.display()))?;
-            Ok((
-                g.phi_actual,
-                g.eta_brownian_over_eta,
-                g.eta_brownian_over_eta_se,
-            ))
-        })
-        .collect()
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, false)?;
     crate::output_guard::out_dir(&args.out)?;
-    let green_kubo = read_green_kubo(&args.green_kubo)?;
-    let mut points = Vec::new();
-    let mut missing = Vec::new();
-    for gs in &grid.runs {
-        let Some(gdot) = gs.scene.shear_rate() else {
-            bail!(
-                "{}: scene {} has no fluid.shear_rate; flow curves need homogeneous shear",
-                args.grid.display(),
-                gs.id
-            );
-        };
-        let work = RunFolder::in_batch(&args.runs, &gs.label());
-        if work.status(&RESULTS) != RunStatus::Done {
-            missing.push(gs.label());
-            continue;
-        }
-        let summary = Box::new(work.summary()?);
-        if work.recorded_scene(&gs.scene.file)? != Recorded::Same {
-            bail!(
-                "{}: the run there was not made for scene {} of {} (another shear rate, \
-                 volume fraction or setting, or no scene.toml): --runs must be the work \
-                 directory in which `suspflow generate` ran this grid",
-                work.dir.display(),
-                gs.id,
-                args.grid.display()
-            );
-        }
-        let rheology = summary
-            .shear
-            .with_context(|| format!("{}: no `shear` box totals", work.summary_json().display()))?;
-        let eta_gdot = gs.scene.file.fluid.eta * gdot;
-        let eta_r_bins = bin_viscosity(&Dataset::read_csv(work.profile_csv())?, eta_gdot)?;
-        let parts = PARTS.map(|(_, _, part)| {
-            summary
-                .stress_parts
-                .get(part)
-                .map_or((f64::NAN, f64::NAN), |e| {
-                    part_viscosity(e.mean, e.se, eta_gdot)
-                })
-        });
-        let state = State {
-            mu_p: gs.scene.file.forces.mu_p,
-            peclet: gs
-                .scene
-                .thermal
-                .and_then(|t| t.peclet)
-                .unwrap_or(f64::INFINITY),
-            alpha: gs.scene.file.particles.mixture.as_ref().map(|m| m.alpha),
-            rho: gs.scene.rho,
-        };
-        let green_kubo = green_kubo_at(&green_kubo, summary.phi_actual);
-        let estimate = |e: Estimate| (e.mean, e.se);
-        points.push(FlowPoint {
-            id: gs.id.clone(),
-            point: StatePoint {
-                state,
-                phi: gs.scene.file.particles.phi,
-                seed: gs.scene.file.seed,
-                phi_actual: summary.phi_actual,
-                eta_r: estimate(rheology.eta_r),
-                eta_r_bins,
-                parts,
-                mu: estimate(rheology.mu),
-                j: estimate(rheology.j),
-                green_kubo,
-            },
-            summary,
-            rheology,
-            kt: gs.scene.file.fluid.kt,
-            inertia_diffusion: gs.scene.thermal.map(|t| t.inertia_diffusion),
-        });
-    }
+    let green_kubo = args
+        .green_kubo
+        .iter()
+        .map(|d| GreenKuboResult::read(d))
+        .collect::<Result<Vec<_>, _>>()?;
+    let FlowRuns { points, missing } = FlowRuns::read(&grid, &args.runs, &green_kubo)?;
     if !missing.is_empty() {
         eprintln!(
             "warning: {} of {} runs not finished in {} (run `suspflow generate {} --out ... --work {}`): {}",
@@ -266,7 +138,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     )?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    write_table(&args.out.join("flow_curves.csv"), &points)?;
+    FlowCurveRow::write_all(&args.out.join("flow_curves.csv"), &points)?;
     let first_fit = fits
         .iter()
         .find_map(|f| f.fits[0].as_ref().ok())
@@ -358,65 +230,6 @@ fn per_seed(points: &[StatePoint], value: fn(&StatePoint) -> (f64, f64, f64)) ->
             points: sel.iter().map(|p| value(p)).collect(),
         })
         .collect()
-}
-
-fn write_table(path: &Path, points: &[FlowPoint]) -> anyhow::Result<()> {
-    let mut out = String::from(
-        "scene_id,phi,peclet,mu_p,seed,n_particles,phi_actual,strain_to_steady,mean_overlap,\
-         shear_rate,kT,sigma_xy,sigma_xy_se,P,P_se,eta_r,eta_r_se,mu,mu_se,J,J_se,\
-         eta_r_bins,eta_r_bins_se",
-    );
-    for (name, _, _) in PARTS {
-        let _ = write!(out, ",{name},{name}_se");
-    }
-    out.push_str(",alpha,alpha_actual,peclet_c,peclet_cg,rho,tau_i_over_tau_b\n");
-    for FlowPoint {
-        id,
-        summary,
-        rheology: r,
-        kt,
-        inertia_diffusion,
-        point: p,
-    } in points
-    {
-        let _ = write!(
-            out,
-            "{},{},{},{},{},{},{},{},{},{},{}",
-            id,
-            p.phi,
-            p.state.peclet,
-            p.state.mu_p,
-            p.seed,
-            summary.n_particles,
-            summary.phi_actual,
-            summary.strain_to_steady,
-            summary.mean_overlap,
-            r.shear_rate,
-            kt
-        );
-        for e in [r.sigma_xy, r.p, r.eta_r, r.mu, r.j] {
-            let _ = write!(out, ",{},{}", e.mean, e.se);
-        }
-        let _ = write!(out, ",{},{}", p.eta_r_bins.0, p.eta_r_bins.1);
-        for (m, se) in p.parts {
-            let _ = write!(out, ",{m},{se}");
-        }
-        // A colloid-grain mixture's composition and Peclet numbers (docs/physics.md
-        // section 13); empty fields for other scenes.
-        let show = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
-        let c = summary.composition;
-        let _ = writeln!(
-            out,
-            ",{},{},{},{},{},{}",
-            show(c.map(|c| c.alpha)),
-            show(c.map(|c| c.alpha_actual)),
-            show(c.and_then(|c| c.peclet_c)),
-            show(c.and_then(|c| c.peclet_cg)),
-            p.state.rho,
-            show(*inertia_diffusion)
-        );
-    }
-    Ok(write_atomic(path, out.as_bytes())?)
 }
 
 /// `eta_r(phi)` and `mu(J)`, one marker colour per seed, beside the seeds' law and the fit

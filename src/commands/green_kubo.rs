@@ -4,19 +4,13 @@
 //! correlation and its running integral (`green_kubo.csv`) and the viscosity
 //! (`green_kubo.json`), in units of the fluid viscosity as a part of `eta_r`.
 use crate::exit_status::Stop;
-use schema::write_atomic;
+use rheometry::green_kubo::{run_in_folder, WRITTEN};
 use sim::input::scene::Scene;
 use sim::run::green_kubo::{GreenKuboJob, GreenKuboRun};
 use sim::run::run_folder::{Ended, RunFolder, RunStatus};
 use sim::run::RunOptions;
-use sim::sampling::green_kubo::GreenKubo;
 use sim::SimError;
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
-use surrogate::rheology::relaxation_fit::Relaxation;
-
-/// The files of a finished Green-Kubo run.
-const RESULTS: [&str; 2] = ["green_kubo.csv", "green_kubo.json"];
+use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -70,8 +64,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     crate::output_guard::out_dir(&args.out)?;
     let folder = RunFolder::new(&args.out);
     if !args.resume {
-        let (file, what) = if folder.status(&RESULTS) == RunStatus::Done {
-            (args.out.join(RESULTS[1]), "an earlier Green-Kubo result")
+        let (file, what) = if folder.status(&WRITTEN) == RunStatus::Done {
+            (
+                args.out.join(rheometry::green_kubo::JSON),
+                "an earlier Green-Kubo result",
+            )
         } else {
             (
                 folder.checkpoint(),
@@ -87,16 +84,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         max_lag_tau_b: args.max_lag,
         blocks: args.blocks,
     };
-    let mut job = GreenKuboJob::new(&scene, plan);
     // Checked before the folder is made: a run that cannot give a result does not start.
-    sim::run::Job::check(&job)?;
+    sim::run::Job::check(&GreenKuboJob::new(&scene, plan))?;
     sim::input::memory_estimate::check_fits_here(&scene)?;
     let _lock = folder.lock("`suspflow green-kubo`")?;
     if args.resume {
         folder.prepare(&scene.file)?;
     } else {
         // Nothing of an earlier run is there, or --force replaces it.
-        folder.start_over(&RESULTS)?;
+        folder.start_over(&WRITTEN)?;
         folder.record_scene(&scene.file)?;
     }
     crate::interrupt::install()?;
@@ -108,17 +104,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ..RunOptions::default()
     };
     let ended = crate::threads::with_threads(args.threads, || {
-        folder.run(
-            &scene,
-            &mut job,
-            opts,
-            &mut |p, _| crate::progress::show(&bar, &mut lines, p, ""),
-            |dir, gk| write_result(dir, &scene, &args, gk),
-        )
+        run_in_folder(&folder, &scene, plan, opts, &mut |p, _| {
+            crate::progress::show(&bar, &mut lines, p, "")
+        })
     })??;
     bar.finish_and_clear();
-    let gk = match ended {
-        Ended::Finished(gk) => gk,
+    let g = match ended {
+        Ended::Finished(g) => g,
         Ended::Interrupted { step } => {
             return Err(Stop::Interrupted(format!(
                 "interrupted at step {step}; state saved in {}; continue with --resume",
@@ -131,63 +123,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         Ended::Failed(reason) => return Err(Stop::Failed(reason).into()),
     };
-    debug_assert_eq!(folder.status(&RESULTS), RunStatus::Done);
-    let eta = scene.file.fluid.eta;
-    let tau_b = scene.thermal.map_or(f64::NAN, |t| t.tau_b);
-    let relaxation = Relaxation::fit(&gk.lags, &gk.running)?;
-    let limit_se = gk.viscosity_se * (relaxation.limit / gk.viscosity).abs();
+    debug_assert_eq!(folder.status(&WRITTEN), RunStatus::Done);
     println!(
         "Green-Kubo Brownian viscosity of {} (N = {}, phi = {:.4}): eta_B / eta = {:.3} +- {:.3} \
          (integral to {} tau_B over {} tau_B); extrapolated as eta_inf (1 - exp(-s/tau)): \
          {:.3} +- {:.3}, tau = {:.2} tau_B",
-        scene.file.name,
-        scene.n_particles(),
-        scene.phi_actual,
-        gk.viscosity / eta,
-        gk.viscosity_se / eta,
-        args.max_lag,
-        args.span,
-        relaxation.limit / eta,
-        limit_se / eta,
-        relaxation.time / tau_b
+        g.scene,
+        g.n_particles,
+        g.phi_actual,
+        g.eta_brownian_over_eta,
+        g.eta_brownian_over_eta_se,
+        g.max_lag_tau_b,
+        g.span_tau_b,
+        g.extrapolated_eta_brownian_over_eta,
+        g.extrapolated_eta_brownian_over_eta_se,
+        g.relaxation_tau_b
     );
     eprintln!("wrote {}", args.out.display());
     Ok(())
-}
-
-/// Writes `green_kubo.csv` (the correlation and its running integral) and
-/// `green_kubo.json` (the viscosity) of `gk` into `dir`.
-fn write_result(dir: &Path, scene: &Scene, args: &Args, gk: &GreenKubo) -> Result<(), SimError> {
-    let eta = scene.file.fluid.eta;
-    let tau_b = scene.thermal.map_or(f64::NAN, |t| t.tau_b);
-    let relaxation =
-        Relaxation::fit(&gk.lags, &gk.running).map_err(|e| SimError::GreenKubo(e.to_string()))?;
-    // The limit's error: the integral's, scaled by limit / integral (the blocks are not
-    // fitted one by one).
-    let limit_se = gk.viscosity_se * (relaxation.limit / gk.viscosity).abs();
-    let mut csv = String::from("lag,lag_tau_b,correlation,running_eta_over_eta\n");
-    for ((lag, c), r) in gk.lags.iter().zip(&gk.correlation).zip(&gk.running) {
-        let _ = writeln!(csv, "{lag},{},{c},{}", lag / tau_b, r / eta);
-    }
-    write_atomic(&dir.join(RESULTS[0]), csv.as_bytes())?;
-    let json = serde_json::json!({
-        "scene": scene.file.name,
-        "n_particles": scene.n_particles(),
-        "phi_actual": scene.phi_actual,
-        "kT": scene.file.fluid.kt,
-        "tau_b": tau_b,
-        "eta_brownian_over_eta": gk.viscosity / eta,
-        "eta_brownian_over_eta_se": gk.viscosity_se / eta,
-        "extrapolated_eta_brownian_over_eta": relaxation.limit / eta,
-        "extrapolated_eta_brownian_over_eta_se": limit_se / eta,
-        "relaxation_tau_b": relaxation.time / tau_b,
-        "blocks": gk.blocks,
-        "warmup_tau_b": args.warmup,
-        "span_tau_b": args.span,
-        "max_lag_tau_b": args.max_lag,
-        "every_steps": args.every,
-        "code_version": crate::CODE_VERSION,
-    });
-    let text = serde_json::to_string_pretty(&json).expect("a JSON value serialises");
-    Ok(write_atomic(&dir.join(RESULTS[1]), text.as_bytes())?)
 }

@@ -98,7 +98,16 @@ impl Job for GreenKuboJob<'_> {
                  fluid.shear_rate, fluid.profile or fluid.peclet",
             ));
         }
-        check_length(self.samples(), self.max_lag(), self.run.blocks)
+        check_length(self.samples(), self.max_lag(), self.run.blocks)?;
+        if self.max_lag() < 2 {
+            return Err(SimError::GreenKubo(format!(
+                "the largest lag is {} sample interval(s) of {:.3e} time: its extrapolation \
+                 needs at least 2 (3 lags); lengthen the largest lag or sample more often",
+                self.max_lag(),
+                self.sample_dt()
+            )));
+        }
+        Ok(())
     }
 
     fn fresh(&self) -> GreenKuboState {

@@ -23,6 +23,7 @@ pub mod error;
 pub mod forces;
 pub mod input;
 pub mod integrate;
+pub mod json_numbers;
 pub mod neighbours;
 pub mod output;
 pub mod run;

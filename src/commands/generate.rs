@@ -22,15 +22,10 @@ use crate::ensemble_table;
 use crate::exit_status::Stop;
 use crate::output_guard;
 use anyhow::Context;
-use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use sim::input::grid::{Grid, GridRun};
-use sim::output::run_summary::RunOutcome;
-use sim::run::batch::{cost, Batch, BatchTables, BatchWatch};
-use sim::run::progress::ProgressLines;
-use sim::run::run_folder::{Ended, RunFolder, RunStatus};
-use sim::run::Progress;
+use sim::run::batch::{cost, Batch, BatchTables};
+use sim::run::run_folder::{RunFolder, RunStatus};
 use std::path::PathBuf;
-use std::sync::Mutex;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -115,7 +110,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         for w in &gs.scene.warnings {
             eprintln!("warning: {}: {w}", gs.label());
         }
-        sim::input::memory_estimate::check_fits_here(&gs.scene).with_context(|| gs.label())?;
+        gs.scene.check_fits_here().with_context(|| gs.label())?;
     }
     if args.check {
         print_check(&scenes);
@@ -169,7 +164,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     write_outputs(&outputs, &batch)?;
     crate::interrupt::install()?;
-    let watch = Bars::new(todo.len(), batch.jobs)?;
+    let watch = crate::progress::BatchBars::new(todo.len(), batch.jobs)?;
     batch.run(todo, &watch, &|| {
         watch.overall.inc(1);
         write_outputs(&outputs, &batch)
@@ -182,101 +177,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     watch.finish();
     let summary = write_outputs(&outputs, &batch)?;
     report(&outputs, &batch, summary)
-}
-
-/// The bars of a batch on a terminal (an overall one, one per worker), and off a terminal
-/// its lines: each run's start and end, and its progress every few percent or minutes.
-struct Bars {
-    multi: MultiProgress,
-    overall: ProgressBar,
-    workers: Vec<ProgressBar>,
-    lines: Vec<Mutex<ProgressLines>>,
-}
-
-impl Bars {
-    fn new(runs: usize, jobs: usize) -> anyhow::Result<Bars> {
-        let multi = MultiProgress::new();
-        let overall = multi.add(ProgressBar::new(runs as u64));
-        overall.set_style(ProgressStyle::with_template(
-            "[{elapsed_precise}] {bar:30} {pos}/{len} runs {msg}",
-        )?);
-        let workers = (0..jobs)
-            .map(|_| {
-                let bar = multi.add(ProgressBar::new(1000));
-                bar.set_style(ProgressStyle::with_template("  {msg}").expect("static template"));
-                bar
-            })
-            .collect();
-        Ok(Bars {
-            multi,
-            overall,
-            workers,
-            lines: (0..jobs)
-                .map(|_| Mutex::new(crate::progress::lines()))
-                .collect(),
-        })
-    }
-
-    fn log(&self, line: String) {
-        if self.multi.is_hidden() {
-            eprintln!("{line}");
-        } else {
-            let _ = self.multi.println(line);
-        }
-    }
-
-    fn finish(&self) {
-        for bar in &self.workers {
-            bar.finish_and_clear();
-        }
-        self.overall.finish_and_clear();
-    }
-}
-
-impl BatchWatch for Bars {
-    fn started(&self, worker: usize, gs: &GridRun, resuming: bool) {
-        if let Ok(mut lines) = self.lines[worker].lock() {
-            *lines = crate::progress::lines();
-        }
-        self.log(format!(
-            "{} start{}: N = {}, L_y = {}, phi = {}, `{}`",
-            gs.label(),
-            if resuming { " (resuming)" } else { "" },
-            gs.scene.n_particles(),
-            gs.scene.box_len[1],
-            gs.scene.file.particles.phi,
-            gs.scene.profile.expr()
-        ));
-    }
-
-    fn progress(&self, worker: usize, gs: &GridRun, p: &Progress) {
-        let label = format!("{}: ", gs.label());
-        if let Ok(mut lines) = self.lines[worker].lock() {
-            crate::progress::show(&self.workers[worker], &mut lines, p, &label);
-        }
-    }
-
-    fn ended(&self, gs: &GridRun, ended: &Ended<RunOutcome>, seconds: f64) {
-        let label = gs.label();
-        self.log(match ended {
-            Ended::Finished(outcome) => {
-                let s = &outcome.summary;
-                format!(
-                    "{label} done in {seconds:.0} s: steady at strain {:.2}, momentum residual {:.4}",
-                    s.strain_to_steady,
-                    s.momentum_residual.unwrap_or(f64::NAN)
-                )
-            }
-            Ended::Interrupted { step } => format!(
-                "{label} interrupted at step {step}; checkpoint saved (the same command resumes it)"
-            ),
-            Ended::InterruptedPacking => format!(
-                "{label} interrupted during its initial packing; nothing to save (the same \
-                 command starts it again from its seed)"
-            ),
-            Ended::Failed(reason) => format!("{label} FAILED: {reason}"),
-        });
-    }
 }
 
 /// Refuses to replace a dataset, run table or ensemble table that this grid did not write:

@@ -86,7 +86,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     // Checked before the folder is made: a run that cannot give a result does not start.
     sim::run::Job::check(&GreenKuboJob::new(&scene, plan))?;
-    sim::input::memory_estimate::check_fits_here(&scene)?;
+    scene.check_fits_here()?;
     let _lock = folder.lock("`suspflow green-kubo`")?;
     if args.resume {
         folder.prepare(&scene.file)?;

@@ -83,7 +83,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut job = SteadyRun::new(&scene, crate::CODE_VERSION);
     // Checked before the folder is touched: a run that cannot start leaves it as it was.
     sim::run::Job::check(&job)?;
-    sim::input::memory_estimate::check_fits_here(&scene)?;
+    scene.check_fits_here()?;
     let _lock = folder.lock("`suspflow simulate`")?;
     if args.resume {
         folder.prepare(&scene.file)?;
@@ -193,10 +193,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// Derived quantities of a valid scene.
 fn print_check(scene: &Scene) -> anyhow::Result<()> {
     sim::input::scene_limits::check_driven(&scene.file)?;
-    sim::input::memory_estimate::check_fits_here(scene)?;
+    scene.check_fits_here()?;
     let t = scene.timestep;
     let r = &scene.file.run;
-    let cost = RunCost::new(scene);
+    let cost = scene.cost();
     println!("scene `{}` is valid", scene.file.name);
     println!(
         "particles: {} (species counts {:?}), phi = {:.4}",

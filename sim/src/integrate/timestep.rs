@@ -7,9 +7,9 @@ use crate::forces::drag;
 use crate::forces::force_field::ForceField;
 use crate::forces::repulsion::Repulsion;
 use crate::input::integrator::Integrator;
-use crate::input::scene::{Scene, SceneFile};
+use crate::input::scene_file::SceneFile;
 use crate::input::thermal_scales::RELAXATION_STEP_LIMIT;
-use crate::output::run_summary::null_as_infinity;
+use crate::json_numbers::null_as_infinity;
 use crate::state::particles::sphere_mass;
 use serde::{Deserialize, Serialize};
 
@@ -196,17 +196,5 @@ impl TimeStep {
             .iter()
             .map(|&a| drag::relaxation_time(sphere_mass(rho, a), file.fluid.eta, a))
             .fold(f64::INFINITY, f64::min)
-    }
-
-    /// The step a scene of `file` runs with, at particle density `rho` and largest shear
-    /// rate `gdot_max` (its force field built from the file).
-    pub fn for_file(file: &SceneFile, rho: f64, gdot_max: f64) -> TimeStep {
-        Self::choose(file, rho, gdot_max, &ForceField::from_file(file))
-    }
-
-    /// Steps per unit of the run's clock (strain, or Brownian time without flow; see
-    /// [`Scene::clock_rate`]).
-    pub fn steps_per_strain(&self, scene: &Scene) -> f64 {
-        1.0 / (scene.clock_rate() * self.dt)
     }
 }

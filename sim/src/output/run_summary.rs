@@ -4,6 +4,7 @@ use crate::input::composition::Composition;
 use crate::input::thermal_scales::ThermalScales;
 use crate::integrate::stage_timers::StageTimers;
 use crate::integrate::timestep::TimeStep;
+use crate::json_numbers::null_as_nan;
 use crate::sampling::bin_averages::BinAverages;
 use crate::sampling::block_sums::{BlockSums, Estimate};
 use crate::sampling::conventions::Conventions;
@@ -11,7 +12,7 @@ use crate::sampling::shear_rheology::ShearRheology;
 use crate::sampling::steady_state::Drift;
 use crate::sampling::stress_checks::StressChecks;
 use crate::sampling::stress_parts::StressParts;
-use serde::{Deserialize, Deserializer, Serialize};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// What a finished run reports besides its profile (written to summary.json, and read back
@@ -82,17 +83,6 @@ impl RunSummary {
         let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
         serde_json::from_slice(&bytes).map_err(|e| err(format!("not a run summary: {e}")))
     }
-}
-
-/// Reads a number that JSON holds as `null` when it was not finite (serde_json writes NaN
-/// and the infinities so) as NaN.
-pub(crate) fn null_as_nan<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
-}
-
-/// Reads a limit that JSON holds as `null` when it was infinite (no such limit) as infinity.
-pub(crate) fn null_as_infinity<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }
 
 /// Result of a completed run.

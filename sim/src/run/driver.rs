@@ -169,7 +169,7 @@ pub fn drive<J: Job>(
     progress: &mut dyn FnMut(&Progress, &Simulation),
 ) -> Result<J::Outcome, SimError> {
     job.check()?;
-    crate::input::memory_estimate::check_fits_here(scene)?;
+    scene.check_fits_here()?;
     let started = Instant::now();
     let interrupt_requested = || opts.interrupt.is_some_and(|f| f.load(Ordering::SeqCst));
     let resume_from = opts

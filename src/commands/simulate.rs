@@ -233,9 +233,15 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
         );
     }
     println!(
-        "{} integrator: dt = {:.3e} set by {} (critical steps: contact {:.3e}, drag {:.3e}, lubrication {:.3e}; accuracy cap xi_min/gdot_max {:.3e})",
-        t.integrator, t.dt, t.limit, t.contact_critical, t.drag_critical, t.lubrication_critical, t.accuracy_limit
+        "{} integrator: dt = {:.3e} set by {} (critical steps: contact {:.3e}, friction {:.3e}, drag {:.3e}, lubrication {:.3e}; accuracy cap xi_min/gdot_max {:.3e})",
+        t.integrator, t.dt, t.limit, t.contact_critical, t.friction_critical, t.drag_critical, t.lubrication_critical, t.accuracy_limit
     );
+    if scene.thermal.is_some() && t.integrator == sim::input::integrator::Integrator::Implicit {
+        println!(
+            "Brownian limits (before run.dt_factor): diffusion {:.3e}, relaxation {:.3e}, cut-off relaxation {:.3e} (docs/physics.md section 11)",
+            t.diffusion_limit, t.relaxation_limit, t.cutoff_limit
+        );
+    }
     println!(
         "{:.0} steps per unit of the run's clock (strain, or tau_B without flow); at most {:.3e} particle-steps to the budget {} plus {:.3e} for {} snapshots",
         cost.steps_per_strain,

@@ -78,7 +78,8 @@ impl ForceField {
                 let contact_distance = a_i + a_j;
                 let lubrication = f
                     .lubrication
-                    .then(|| LubricationCoefficients::new(a_i, a_j, eta, f.xi_min, f.xi_max));
+                    .then(|| LubricationCoefficients::new(a_i, a_j, eta, f.xi_min, f.xi_max))
+                    .map(|l| l.with_taper(f.taper_width()));
                 let mut reach = f.reach(contact_distance);
                 if kt > 0.0 {
                     reach = reach.max(brownian_shell::reach(a_i, a_j));

@@ -293,13 +293,8 @@ impl Scene {
             .as_ref()
             .map(|m| Composition::of(m, &counts, file.fluid.eta, gdot_max, file.fluid.kt));
         let force_field = ForceField::from_file(&file);
-        let timestep = TimeStep::choose(&file, rho, gdot_max, &force_field);
-        let relaxation = TimeStep::relaxation_time(&file, rho);
-        if let Some(w) = thermal
-            .is_some()
-            .then(|| thermal_scales::unresolved_relaxation_warning(timestep.dt, relaxation))
-            .flatten()
-        {
+        let timestep = TimeStep::choose(&file, (rho, gdot_max), &counts, &force_field);
+        if let Some(w) = timestep.brownian_warning() {
             warnings.push(w);
         }
         let mut scene = Scene {

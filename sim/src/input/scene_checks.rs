@@ -101,6 +101,9 @@ pub fn check_sections(file: &mut SceneFile) -> Result<f64, SimError> {
             format!("must be >= 0 (0 = non-Brownian), got {}", file.fluid.kt),
         ));
     }
+    if file.fluid.kt > 0.0 && file.forces.lubrication && file.forces.xi_taper.is_none() {
+        file.forces.xi_taper = Some(file.forces.xi_max);
+    }
     let f = &file.forces;
     if !(f.contact || f.drag || f.lubrication) {
         return Err(SimError::field(
@@ -122,6 +125,15 @@ pub fn check_sections(file: &mut SceneFile) -> Result<f64, SimError> {
         return Err(SimError::field(
             "forces.xi_min",
             format!("must be below forces.xi_max ({} >= {})", f.xi_min, f.xi_max),
+        ));
+    }
+    if !(f.taper_width().is_finite() && f.taper_width() >= 0.0) {
+        return Err(SimError::field(
+            "forces.xi_taper",
+            format!(
+                "must be >= 0 (0 = the sharp cut at forces.xi_max), got {}",
+                show(f.taper_width())
+            ),
         ));
     }
     if !(f.repulsion.is_finite() && f.repulsion >= 0.0) {

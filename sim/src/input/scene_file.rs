@@ -124,6 +124,12 @@ pub struct ForceSection {
     /// Lubrication outer cut-off of the dimensionless gap.
     #[serde(default = "default_xi_max")]
     pub xi_max: f64,
+    /// Width (in the dimensionless gap) of the taper beyond `xi_max` over which the
+    /// lubrication resistance falls smoothly to zero; 0 = the seeds' sharp cut. Absent:
+    /// `xi_max` in a Brownian scene (filled in when the scene is read, docs/physics.md
+    /// section 11), 0 otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub xi_taper: Option<f64>,
     /// Short-range repulsion `A / kT` (dimensionless; paper eq 4.2, thesis eq 4.4,
     /// docs/physics.md section 11): the amplitude `A = repulsion * fluid.kT`, so it needs
     /// `fluid.kT > 0`; 0 = off, and then nothing of it is evaluated.
@@ -132,14 +138,20 @@ pub struct ForceSection {
 }
 
 impl ForceSection {
+    /// The lubrication taper's width (`xi_taper`, 0 when absent).
+    pub fn taper_width(&self) -> f64 {
+        self.xi_taper.unwrap_or(0.0)
+    }
+
     /// Interaction range of a pair at contact distance `a_i + a_j` (units a): the
-    /// lubrication cut-off `(a_i + a_j)(1 + xi_max / 2)`, where the gap
-    /// `xi = 2 (r - a_i - a_j) / (a_i + a_j)` reaches `xi_max` (docs/physics.md section 4),
+    /// lubrication cut-off `(a_i + a_j)(1 + (xi_max + xi_taper) / 2)`, where the gap
+    /// `xi = 2 (r - a_i - a_j) / (a_i + a_j)` reaches the taper's end (docs/physics.md
+    /// section 4),
     /// or the contact distance without lubrication; with the repulsion on, at least its
     /// cut-off `1.1 (a_i + a_j)`, a gap of 10 Debye lengths ([`Repulsion::reach`]).
     pub fn reach(&self, contact_distance: f64) -> f64 {
         let reach = if self.lubrication {
-            contact_distance * (1.0 + 0.5 * self.xi_max)
+            contact_distance * (1.0 + 0.5 * (self.xi_max + self.taper_width()))
         } else {
             contact_distance
         };

@@ -106,7 +106,7 @@ impl Thermal {
             let (r, image) = pbox.image(&p.pos[i], &p.pos[j]);
             let c = field.constants(p.species[i], p.species[j]);
             let lub = c.lubrication.as_ref().expect("network pairs lubricate");
-            gap((r + shift(image)).norm(), p.radius[i], p.radius[j]) >= lub.xi_max
+            gap((r + shift(image)).norm(), p.radius[i], p.radius[j]) >= lub.xi_end()
         };
         let left = |pair: &ResistancePair| beyond(pair, &|_| Vec3::zeros());
         let entered = |pair: &ResistancePair| {

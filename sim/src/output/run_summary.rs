@@ -9,6 +9,7 @@ use crate::sampling::bin_averages::BinAverages;
 use crate::sampling::block_sums::{BlockSums, Estimate};
 use crate::sampling::conventions::Conventions;
 use crate::sampling::shear_rheology::ShearRheology;
+use crate::sampling::species_temperatures::SpeciesTemperature;
 use crate::sampling::steady_state::Drift;
 use crate::sampling::stress_checks::StressChecks;
 use crate::sampling::stress_parts::StressParts;
@@ -51,6 +52,10 @@ pub struct RunSummary {
     /// summaries of runs made before it was added.
     #[serde(default)]
     pub stress_parts: BTreeMap<String, Estimate>,
+    /// Kinetic temperatures of each species over kT, translation and rotation, relative to
+    /// the streaming flow (Brownian scenes; docs/physics.md section 11); absent otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub temperatures: Vec<SpeciesTemperature>,
     /// Box totals of a homogeneous-shear scene (docs/physics.md section 10).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shear: Option<ShearRheology>,
@@ -139,6 +144,10 @@ mod tests {
                 drag_critical: f64::INFINITY,
                 lubrication_critical: f64::INFINITY,
                 accuracy_limit: f64::INFINITY,
+                friction_critical: f64::INFINITY,
+                diffusion_limit: 2e-3,
+                relaxation_limit: f64::INFINITY,
+                cutoff_limit: f64::INFINITY,
                 integrator: Integrator::Explicit,
             },
             steps: 1234,
@@ -149,6 +158,7 @@ mod tests {
                 chi2_u: 0.9,
                 chi2_sigma_xy: 1.1,
                 chi2_phi_loc: 1.0,
+                chi2_structure: 0.0,
             }],
             snapshots: 40,
             wall_s: 2.5,
@@ -160,6 +170,11 @@ mod tests {
                 balance_residual: None,
             },
             stress_parts: BTreeMap::from([("sigma_xy_contact".to_string(), estimate(-0.2))]),
+            temperatures: vec![SpeciesTemperature {
+                radius: 1.0,
+                translation: estimate(1.0),
+                rotation: estimate(0.99),
+            }],
             shear: Some(ShearRheology {
                 shear_rate: 0.1,
                 sigma_xy: estimate(-0.2),

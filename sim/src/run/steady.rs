@@ -15,6 +15,7 @@ use crate::sampling::bin_averages::{BinAverages, BinningContext};
 use crate::sampling::block_sums::BlockSums;
 use crate::sampling::shear_rheology::ShearRheology;
 use crate::sampling::snapshot::{self, Sampler, StepPairSums};
+use crate::sampling::species_temperatures::SpeciesTemperatureSums;
 use crate::sampling::steady_state::SteadyState;
 use crate::sampling::stress_checks::stress_checks;
 use crate::sampling::stress_parts::StressParts;
@@ -43,6 +44,9 @@ pub struct RunState {
     /// The pair sums of the steps since the last snapshot (Brownian scenes, implicit step).
     #[serde(default)]
     step_pairs: StepPairSums,
+    /// Kinetic temperatures per species over the averaging (Brownian scenes).
+    #[serde(default)]
+    temperatures: SpeciesTemperatureSums,
 }
 
 /// A steady run of a scene, with its sampling buffers.
@@ -124,6 +128,7 @@ impl Job for SteadyRun<'_> {
             overlap_mean_sum: 0.0,
             overlap_max: 0.0,
             step_pairs: StepPairSums::default(),
+            temperatures: SpeciesTemperatureSums::default(),
         }
     }
 
@@ -229,6 +234,12 @@ impl Job for SteadyRun<'_> {
             Phase::Averaging => {
                 st.overlap_mean_sum += sim.contacts.mean_overlap();
                 st.overlap_max = st.overlap_max.max(sim.contacts.max_overlap_ratio);
+                if let Some(thermal) = &self.scene.thermal {
+                    let a = &st.averaging;
+                    let block = ((a.taken - 1) / a.per_block).min(a.sums.len() - 1);
+                    let shape = (self.scene.file.particles.radii.len(), a.sums.len());
+                    st.temperatures.add(sim, thermal.kt, block, shape);
+                }
             }
         }
         Ok(if self.finished(st) {
@@ -288,6 +299,7 @@ impl Job for SteadyRun<'_> {
             momentum_residual: profile.momentum_residual,
             stress_checks: stress_checks(ctx, &st.averaging),
             stress_parts: stress.box_totals.clone(),
+            temperatures: st.temperatures.estimates(&scene.file.particles.radii),
             shear: scene
                 .shear_rate()
                 .map(|g| ShearRheology::from_blocks(ctx, &st.averaging, g)),

@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""Convergence of a Brownian flow curve in the time step (issue 50 item 3; docs/physics.md
+section 11): for every state of a grid run at several `run.dt_factor` (e.g.
+grids/brownian_step_convergence.toml), eta_r and each of its parts at the longest step
+against the run at a third of it. The numbers come from `suspflow flow-curves`' per-run
+table (`flow_curves.csv`) and the run table of `suspflow generate` (`bins.scenes.csv`,
+which holds each run's step); this script only pairs and tabulates them.
+
+A part passes when the two runs differ by at most 5 % of the shorter step's value AND by at
+most 2 combined standard errors (the issue's target); both figures are printed, so a reader
+sees which one fails.
+
+    python3 scripts/step_convergence.py --runs reports/brownian/step_convergence/bins.scenes.csv \\
+        --curves reports/brownian/step_convergence/flow_curves.csv \\
+        --out reports/brownian/step_convergence/convergence.md
+"""
+import argparse
+import csv
+import math
+import sys
+from collections import defaultdict
+
+PARTS = ["eta_r", "eta_r_contact", "eta_r_hydrodynamic", "eta_r_brownian"]
+
+
+def read(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--runs", required=True, help="generate's run table (bins.scenes.csv)")
+    ap.add_argument("--curves", required=True, help="flow-curves' per-run table (flow_curves.csv)")
+    ap.add_argument("--out", help="Markdown table (printed as well)")
+    ap.add_argument("--tolerance", type=float, default=0.05, help="relative tolerance (0.05)")
+    ap.add_argument("--sigmas", type=float, default=2.0, help="combined standard errors (2)")
+    a = ap.parse_args()
+    steps = {r["scene_id"]: r for r in read(a.runs)}
+    groups = defaultdict(list)
+    for row in read(a.curves):
+        run = steps.get(row["scene_id"])
+        if run is None or run["status"] != "done":
+            continue
+        key = (float(row["phi"]), float(row["peclet"] or "nan"), float(row["mu_p"]), row["seed"])
+        groups[key].append((float(run["dt"]), run["dt_limit"], row))
+    lines = [
+        "| phi | Pe | mu_p | seed | dt (limit) | dt/3 | part | at dt | at dt/3 | difference | / value | / comb. se | pass |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    failures = 0
+    compared = 0
+    for key in sorted(groups):
+        runs = sorted(groups[key], key=lambda r: -r[0])
+        if len(runs) < 2:
+            continue
+        (dt, limit, long_), (dt3, _, short) = runs[0], runs[-1]
+        if abs(dt / dt3 - 3.0) > 0.01:
+            print(f"skipped {key}: steps {dt:.3e} and {dt3:.3e} are not a factor 3 apart", file=sys.stderr)
+            continue
+        for part in PARTS:
+            q, q3 = float(long_[part]), float(short[part])
+            se = math.hypot(float(long_[part + "_se"]), float(short[part + "_se"]))
+            diff = q - q3
+            rel = diff / q3 if q3 else float("nan")
+            sig = diff / se if se > 0 else float("inf")
+            ok = abs(rel) <= a.tolerance and abs(sig) <= a.sigmas
+            compared += 1
+            failures += not ok
+            phi, pe, mu, seed = key
+            lines.append(
+                f"| {phi} | {pe:g} | {mu:g} | {seed} | {dt:.3e} ({limit}) | {dt3:.3e} | {part} | "
+                f"{q:.3f} +- {float(long_[part + '_se']):.3f} | {q3:.3f} +- {float(short[part + '_se']):.3f} | "
+                f"{diff:+.3f} | {100 * rel:+.1f} % | {sig:+.1f} | {'yes' if ok else '**no**'} |"
+            )
+    lines.append("")
+    lines.append(f"{compared - failures} of {compared} comparisons within {100 * a.tolerance:g} % and {a.sigmas:g} combined standard errors.")
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if a.out:
+        with open(a.out, "w") as f:
+            f.write(text)
+
+
+if __name__ == "__main__":
+    main()

@@ -5,7 +5,7 @@ use crate::error::Error;
 use crate::scene::Scene;
 use pyo3::prelude::*;
 use schema::columns as col;
-use solver::{ClosureKind, Closures, ProfileProblem};
+use solver::{ClosureKind, Closures, ProfileProblem, SolvedProfile};
 use std::path::PathBuf;
 
 /// A solved profile: per-bin columns under the dataset's names, and how the solve went.
@@ -68,27 +68,17 @@ pub fn solve(
     let s = &solution;
     let checks = closures.domain_checks(kind, scene.file.particles.phi, s)?;
     let n = problem.n_bins();
-    let theta = if s.theta.is_empty() {
-        vec![f64::NAN; n]
-    } else {
-        s.theta.clone()
+    let solved = SolvedProfile {
+        scene,
+        problem: &problem,
+        solution: s,
+        checks: &checks,
     };
-    let columns = vec![
+    let mut columns = vec![
         (col::L_Y, vec![scene.file.box_.l_y; n]),
         (col::PHI, vec![scene.file.particles.phi; n]),
-        (col::Y, problem.bin_centres()),
-        (col::U_INF, problem.u_inf.clone()),
-        (col::U, s.u.clone()),
-        (col::GDOT, s.gdot.clone()),
-        (col::SIGMA_XY, s.sigma_xy.clone()),
-        (col::P, vec![s.pressure; n]),
-        (col::PHI_LOC, s.phi_loc.clone()),
-        (col::J, s.j.clone()),
-        (col::MU, s.mu.clone()),
-        (col::THETA, theta),
-        (col::DELTA_V, s.delta_v.clone()),
-        (col::F_X, s.f_x.clone()),
     ];
+    columns.extend(solved.columns());
     Ok(Solution {
         columns: columns
             .into_iter()

@@ -8,7 +8,8 @@
 //! the bin centres and the drag coefficient of the particle mix); [`ProfileProblem::solve`]
 //! takes a [`Closure`] (a [`LearnedClosure`], a [`NonlocalClosure`] with its
 //! [`ThetaBalance`] fitted by [`ThetaBalance::fit`], or a `LocalRheology`, fitted on a dataset
-//! by [`fit_local_rheology`]) and returns a [`ProfileSolution`].
+//! by [`fit_local_rheology`]) and returns a [`ProfileSolution`], which a [`SolvedProfile`]
+//! writes as `profile.csv` beside its [`SolveSummary`].
 
 pub mod closure;
 pub mod closures;
@@ -17,6 +18,7 @@ pub mod local_fit;
 pub mod newton;
 pub mod problem;
 pub mod solution;
+pub mod solved_profile;
 pub mod theta_balance;
 
 pub use closure::{Closure, Descriptor, LearnedClosure, NonlocalClosure, SMOOTHING};
@@ -26,4 +28,5 @@ pub use local_fit::fit_local_rheology;
 pub use newton::TOLERANCE;
 pub use problem::ProfileProblem;
 pub use solution::ProfileSolution;
+pub use solved_profile::{SolveSummary, SolvedProfile};
 pub use theta_balance::{ThetaBalance, ThetaBalanceFit};

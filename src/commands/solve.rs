@@ -3,7 +3,8 @@
 //! with the learned `dv` mapping, with the local rheology, or nonlocally with the learned
 //! `theta` mapping and the Theta balance (the `solver` crate).
 //! Writes `DIR/profile.csv` (the dataset's columns that the solve determines; no standard
-//! errors) and `DIR/summary.json` (which closure, and the fitted Theta balance); `--compare
+//! errors), `DIR/summary.json` (which closure, and the fitted Theta balance) and
+//! `DIR/scene.toml` (`solver::SolvedProfile`); `--compare
 //! FILE.csv` puts a simulated profile of the same scene beside the solutions of every
 //! closure.
 use crate::output_guard;
@@ -12,14 +13,11 @@ use anyhow::{bail, Context};
 use ndarray::Array2;
 use schema::columns as col;
 use schema::Observable;
-use serde::Serialize;
 use sim::input::scene::Scene;
-use solver::{
-    ClosureKind, Closures, ProfileProblem, ProfileSolution, SolverError, ThetaBalanceFit,
-};
+use solver::{ClosureKind, Closures, ProfileProblem, ProfileSolution, SolvedProfile, SolverError};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use surrogate::{relative_l2_error, Dataset, DomainCheck};
+use surrogate::{relative_l2_error, Dataset};
 
 /// Starting pressure of the Newton iterations (units eta/time; the training scenes have
 /// 0.03-0.2).
@@ -60,29 +58,6 @@ pub struct Args {
     compare: Option<PathBuf>,
 }
 
-#[derive(Serialize)]
-struct Summary<'a> {
-    scene: &'a str,
-    closure: &'static str,
-    /// The Theta balance the nonlocal closure solves (fitted whatever the closure).
-    theta_balance: ThetaBalanceFit,
-    bins: usize,
-    iterations: usize,
-    /// Whether Newton's method stalled from u = u_inf and the solve followed the
-    /// continuation from the local law.
-    continued: bool,
-    /// Largest balance residual, in units of the forcing's drag density.
-    residual: f64,
-    pressure: f64,
-    /// Bins outside the closure's training domain (columns `in_domain`, `domain_distance`
-    /// of profile.csv): their closure values are extrapolations.
-    bins_outside_domain: usize,
-    /// Largest `domain_distance` over the bins (<= 1 is near enough the training rows).
-    largest_domain_distance: f64,
-    wall_ms: f64,
-    code_version: &'a str,
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
     let scene = Scene::from_path(&args.scene, false)?;
     let problem = ProfileProblem::from_scene(&scene)
@@ -117,29 +92,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             )
         })?;
     let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
     let checks = closures.domain_checks(args.closure, scene.file.particles.phi, &solution)?;
-    write_profile(&profile_csv, &scene, &problem, &solution, &checks)?;
-    let outside = checks.iter().filter(|c| !c.inside()).count();
-    let summary = Summary {
-        scene: &scene.file.name,
-        closure: args.closure.name(),
-        theta_balance: closures.theta_fit,
-        bins: problem.n_bins(),
-        iterations: solution.iterations,
-        continued: solution.continued,
-        residual: solution.residual,
-        pressure: solution.pressure,
-        bins_outside_domain: outside,
-        largest_domain_distance: checks.iter().map(|c| c.distance).fold(0.0, f64::max),
-        wall_ms,
-        code_version: crate::CODE_VERSION,
+    let solved = SolvedProfile {
+        scene: &scene,
+        problem: &problem,
+        solution: &solution,
+        checks: &checks,
     };
-    std::fs::write(
-        args.out.join("summary.json"),
-        serde_json::to_string_pretty(&summary)?,
-    )?;
+    let summary = solved.summary(
+        args.closure,
+        closures.theta_fit,
+        wall_ms,
+        crate::CODE_VERSION,
+    );
+    solved.write(&args.out, &summary)?;
+    let outside = summary.bins_outside_domain;
     println!(
         "{}: {} closure, {} bins, {} Newton iterations{}, residual {:.1e}, P {:.4}, {:.1} ms -> {}",
         scene.file.name,
@@ -199,70 +166,6 @@ fn with_hint(e: SolverError, closure: ClosureKind) -> anyhow::Error {
         }
         e => e.into(),
     }
-}
-
-/// Writes the solution with the dataset's column names and the bins' training-domain check
-/// (`in_domain`, `domain_distance`, as `predict` writes them); standard errors are left out,
-/// and Theta is empty unless the closure solved for it.
-fn write_profile(
-    path: &Path,
-    scene: &Scene,
-    problem: &ProfileProblem,
-    s: &ProfileSolution,
-    checks: &[DomainCheck],
-) -> anyhow::Result<()> {
-    let mut w =
-        csv::Writer::from_path(path).with_context(|| format!("writing {}", path.display()))?;
-    w.write_record([
-        col::SCENE_ID,
-        col::PROFILE,
-        col::L_Y,
-        col::PHI,
-        col::Y,
-        col::U_INF,
-        col::U,
-        col::GDOT,
-        col::SIGMA_XY,
-        col::P,
-        col::PHI_LOC,
-        col::J,
-        col::MU,
-        col::THETA,
-        col::DELTA_V,
-        col::F_X,
-        col::IN_DOMAIN,
-        col::DOMAIN_DISTANCE,
-    ])?;
-    let f = &scene.file;
-    for (k, y) in problem.bin_centres().into_iter().enumerate() {
-        let numbers = [
-            y,
-            problem.u_inf[k],
-            s.u[k],
-            s.gdot[k],
-            s.sigma_xy[k],
-            s.pressure,
-            s.phi_loc[k],
-            s.j[k],
-            s.mu[k],
-        ];
-        let mut record = vec![
-            f.name.clone(),
-            f.fluid.profile.clone(),
-            format!("{:e}", f.box_.l_y),
-            format!("{:e}", f.particles.phi),
-        ];
-        record.extend(numbers.iter().map(|x| format!("{x:e}")));
-        record.push(s.theta.get(k).map_or(String::new(), |t| format!("{t:e}")));
-        record.extend([s.delta_v[k], s.f_x[k]].iter().map(|x| format!("{x:e}")));
-        record.extend([
-            checks[k].inside().to_string(),
-            format!("{:e}", checks[k].distance),
-        ]);
-        w.write_record(&record)?;
-    }
-    w.flush()?;
-    Ok(())
 }
 
 /// Relative L2 errors of u, phi_loc and mu of each solution against the simulated rows of

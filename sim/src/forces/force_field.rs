@@ -7,7 +7,7 @@ use crate::forces::lubrication::{gap, LubricationCoefficients, PairResistance};
 use crate::forces::pair_load::PairLoad;
 use crate::forces::repulsion::Repulsion;
 use crate::input::flow_profile::FlowProfile;
-use crate::input::scene::SceneFile;
+use crate::input::scene_file::SceneFile;
 use crate::state::particles::Particles;
 use crate::state::periodic_box::PeriodicBox;
 use crate::state::Vec3;

@@ -2,7 +2,7 @@
 //! on this machine, from the scene's automatic time step; runs that cannot finish are
 //! refused and long ones announced.
 use crate::error::SimError;
-use crate::input::scene::Scene;
+use crate::input::scene_file::RunSection;
 use crate::input::scene_limits::show;
 
 /// Particle-steps per second of a run here (2 cores): the validation scenes of the full
@@ -37,16 +37,20 @@ pub struct RunCost {
 }
 
 impl RunCost {
-    /// The cost of `scene` at its time step.
-    pub fn new(scene: &Scene) -> RunCost {
-        let r = &scene.file.run;
-        let steps_per_strain = scene.timestep.steps_per_strain(scene);
-        let n = scene.n_particles() as f64;
+    /// The cost of a run of `run` for `n_particles` at `steps_per_strain` steps per unit
+    /// of its clock, with Brownian forces or not.
+    pub fn new(
+        steps_per_strain: f64,
+        n_particles: usize,
+        r: &RunSection,
+        brownian: bool,
+    ) -> RunCost {
+        let n = n_particles as f64;
         RunCost {
             steps_per_strain,
             equilibration_particle_steps: steps_per_strain * r.max_strain * n,
             averaging_particle_steps: steps_per_strain * r.sample_strain * r.snapshots as f64 * n,
-            rate: if scene.thermal.is_some() {
+            rate: if brownian {
                 BROWNIAN_PARTICLE_STEPS_PER_S
             } else {
                 PARTICLE_STEPS_PER_S

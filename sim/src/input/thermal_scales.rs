@@ -1,7 +1,7 @@
 //! The time scales and dimensionless groups of a Brownian scene (thesis section 3.8,
 //! paper eqs 2.28-2.31; docs/physics.md section 11), with `a` the small radius.
 use crate::error::SimError;
-use crate::input::scene::FluidSection;
+use crate::input::scene_file::FluidSection;
 use crate::input::scene_limits::show;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;

@@ -246,7 +246,7 @@ impl Simulation {
 
     /// The system without neighbour list or forces.
     fn bare(scene: &Scene, particles: Particles) -> Result<Self, SimError> {
-        let field = ForceField::from_file(&scene.file);
+        let field = scene.force_field.clone();
         let timestep = scene.timestep;
         if !(timestep.dt.is_finite() && timestep.dt > 0.0) {
             return Err(SimError::field(

@@ -9,10 +9,10 @@ use crate::forces::force_field::ForceField;
 use crate::forces::lubrication::LubricationCoefficients;
 use crate::forces::repulsion::{Repulsion, CUTOFF_KAPPAS};
 use crate::input::integrator::Integrator;
-use crate::input::scene::{Scene, SceneFile};
+use crate::input::scene_file::SceneFile;
 use crate::input::thermal_scales::peclet_number;
 use crate::integrate::brownian_limits::BrownianLimits;
-use crate::output::run_summary::null_as_infinity;
+use crate::json_numbers::null_as_infinity;
 use crate::state::particles::sphere_mass;
 use serde::{Deserialize, Serialize};
 
@@ -289,19 +289,6 @@ impl TimeStep {
                 self.dt / limit
             )
         })
-    }
-
-    /// The step a scene of `file` runs with, at particle density `rho` and largest shear
-    /// rate `gdot_max`, with `counts` particles of each species (its force field built
-    /// from the file).
-    pub fn for_file(file: &SceneFile, rho: f64, gdot_max: f64, counts: &[usize]) -> TimeStep {
-        Self::choose(file, (rho, gdot_max), counts, &ForceField::from_file(file))
-    }
-
-    /// Steps per unit of the run's clock (strain, or Brownian time without flow; see
-    /// [`Scene::clock_rate`]).
-    pub fn steps_per_strain(&self, scene: &Scene) -> f64 {
-        1.0 / (scene.clock_rate() * self.dt)
     }
 }
 

@@ -4,6 +4,7 @@ use crate::input::composition::Composition;
 use crate::input::thermal_scales::ThermalScales;
 use crate::integrate::stage_timers::StageTimers;
 use crate::integrate::timestep::TimeStep;
+use crate::json_numbers::null_as_nan;
 use crate::sampling::bin_averages::BinAverages;
 use crate::sampling::block_sums::{BlockSums, Estimate};
 use crate::sampling::conventions::Conventions;
@@ -12,7 +13,7 @@ use crate::sampling::species_temperatures::SpeciesTemperature;
 use crate::sampling::steady_state::Drift;
 use crate::sampling::stress_checks::StressChecks;
 use crate::sampling::stress_parts::StressParts;
-use serde::{Deserialize, Deserializer, Serialize};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// What a finished run reports besides its profile (written to summary.json, and read back
@@ -76,15 +77,17 @@ pub struct RunSummary {
     pub code_version: String,
 }
 
-/// Reads a number that JSON holds as `null` when it was not finite (serde_json writes NaN
-/// and the infinities so) as NaN.
-pub(crate) fn null_as_nan<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
-}
-
-/// Reads a limit that JSON holds as `null` when it was infinite (no such limit) as infinity.
-pub(crate) fn null_as_infinity<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+impl RunSummary {
+    /// Reads the summary a finished run wrote at `path` (see
+    /// [`write_results`](crate::output::result_files::write_results)).
+    pub fn read(path: &std::path::Path) -> Result<RunSummary, crate::error::SimError> {
+        let err = |message: String| crate::error::SimError::Output {
+            path: path.display().to_string(),
+            message,
+        };
+        let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
+        serde_json::from_slice(&bytes).map_err(|e| err(format!("not a run summary: {e}")))
+    }
 }
 
 /// Result of a completed run.

@@ -39,8 +39,12 @@ impl SpeciesTemperatureSums {
     ) {
         if self.sums.is_empty() {
             self.sums = vec![vec![[0.0; 2]; blocks]; species];
-            self.snapshots = vec![0; blocks];
         }
+        // An extended run has more blocks than it started with.
+        for s in &mut self.sums {
+            s.resize(blocks.max(s.len()), [0.0; 2]);
+        }
+        self.snapshots.resize(blocks.max(self.snapshots.len()), 0);
         let p = &sim.particles;
         let mut energy = vec![[0.0; 2]; species];
         let mut count = vec![0usize; species];

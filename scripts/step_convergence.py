@@ -3,8 +3,10 @@
 section 11): for every state of a grid run at several `run.dt_factor` (e.g.
 grids/brownian_step_convergence.toml), eta_r and each of its parts at the longest step
 against the run at a third of it. The numbers come from `suspflow flow-curves`' per-run
-table (`flow_curves.csv`) and the run table of `suspflow generate` (`bins.scenes.csv`,
-which holds each run's step); this script only pairs and tabulates them.
+table (`flow_curves.csv`) and each run's step, from the run table of `suspflow generate`
+(`bins.scenes.csv`) or, for runs made one by one (`suspflow simulate` into the grid's work
+folders), from each folder's `summary.json` (`--work`); this script only pairs and
+tabulates them.
 
 A part passes when the two runs differ by at most 5 % of the shorter step's value AND by at
 most 2 combined standard errors (the issue's target); both figures are printed, so a reader
@@ -13,10 +15,14 @@ sees which one fails.
     python3 scripts/step_convergence.py --runs reports/brownian/step_convergence/bins.scenes.csv \\
         --curves reports/brownian/step_convergence/flow_curves.csv \\
         --out reports/brownian/step_convergence/convergence.md
+    python3 scripts/step_convergence.py --work reports/brownian/step_convergence/runs.work \\
+        --curves reports/brownian/step_convergence/flow_curves.csv
 """
 import argparse
 import csv
+import json
 import math
+import os
 import sys
 from collections import defaultdict
 
@@ -28,17 +34,32 @@ def read(path):
         return list(csv.DictReader(f))
 
 
+def steps_from_work(work, curves):
+    """Each finished run's step and its limit, from `<work>/<scene_id>_seed<seed>/summary.json`."""
+    steps = {}
+    for row in curves:
+        path = os.path.join(work, f"{row['scene_id']}_seed{row['seed']}", "summary.json")
+        if os.path.exists(path):
+            with open(path) as f:
+                summary = json.load(f)
+            steps[row["scene_id"]] = {"status": "done", "dt": summary["dt"], "dt_limit": summary["dt_limit"]}
+    return steps
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--runs", required=True, help="generate's run table (bins.scenes.csv)")
+    source = ap.add_mutually_exclusive_group(required=True)
+    source.add_argument("--runs", help="generate's run table (bins.scenes.csv)")
+    source.add_argument("--work", help="the grid's work folder of runs (summary.json in each)")
     ap.add_argument("--curves", required=True, help="flow-curves' per-run table (flow_curves.csv)")
     ap.add_argument("--out", help="Markdown table (printed as well)")
     ap.add_argument("--tolerance", type=float, default=0.05, help="relative tolerance (0.05)")
     ap.add_argument("--sigmas", type=float, default=2.0, help="combined standard errors (2)")
     a = ap.parse_args()
-    steps = {r["scene_id"]: r for r in read(a.runs)}
+    curves = read(a.curves)
+    steps = steps_from_work(a.work, curves) if a.work else {r["scene_id"]: r for r in read(a.runs)}
     groups = defaultdict(list)
-    for row in read(a.curves):
+    for row in curves:
         run = steps.get(row["scene_id"])
         if run is None or run["status"] != "done":
             continue

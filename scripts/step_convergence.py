@@ -104,9 +104,14 @@ def main():
         "| phi | Pe | mu_p | seeds | dt (limit) | part | at dt | at dt/3 | difference | se (scatter, blocks) | / value | / se | pass |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
+    summary = [
+        "| phi | Pe | mu_p | seeds | dt (limit) | " + " | ".join(PARTS) + " |",
+        "|---|---|---|---|---|" + "---|" * len(PARTS),
+    ]
     failures = compared = 0
     for state, seeds in sorted(pairs.items()):
         phi, pe, mu = state
+        cells = []
         for part in PARTS:
             diffs, block_var, longs, shorts = [], 0.0, [], []
             for seed, dt, limit, long_, short in seeds:
@@ -135,8 +140,14 @@ def main():
                 f"| {phi} | {pe:g} | {mu:g} | {n} | {dt:.3e} ({limit}) | {part} | {sum(longs) / n:.3f} | {ref:.3f} | "
                 f"{mean:+.3f} | {se:.3f} ({scatter:.3f}, {blocks:.3f}) | {100 * rel:+.1f} % | {sig:+.1f} | "
                 f"{'yes' if ok else '**no**'} |")
+            cell = f"{100 * rel:+.1f} +- {100 * se / abs(ref) if ref else float('nan'):.1f} %"
+            cells.append(cell if ok else f"**{cell}**")
+        summary.append(f"| {phi} | {pe:g} | {mu:g} | {len(seeds)} | {seeds[0][1]:.2e} ({seeds[0][2]}) | "
+                       + " | ".join(cells) + " |")
     text = "\n".join(
-        ["Pooled over seeds:", ""] + pooled
+        ["Relative difference, automatic step against a third of it, pooled over seeds "
+         "(bold: beyond 5 % or 2 standard errors):", ""] + summary
+        + ["", "Pooled over seeds:", ""] + pooled
         + ["", f"{compared - failures} of {compared} pooled comparisons within {100 * a.tolerance:g} % "
                f"and {a.sigmas:g} standard errors.", "", "Per seed:", ""] + per_seed) + "\n"
     print(text)

@@ -11,11 +11,11 @@ use anyhow::Context;
 use std::path::PathBuf;
 use std::time::Instant;
 use surrogate::{
-    standard_grid, Dataset, HyperParameters, Mapping, ModelMeta, Samples, TableKind, TrainedModel,
-    Tuning,
+    standard_grid, Dataset, HyperParameters, IntervalCalibration, IntervalStudy, Mapping,
+    ModelMeta, Samples, TableKind, TrainedModel, Tuning, DEFAULT_LEVEL,
 };
 
-use crate::surrogate_text::{describe, errors_by_output, warn_skipped};
+use crate::surrogate_text::{describe, errors_by_output, warn_skipped, widths_by_output};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -30,7 +30,7 @@ pub struct Args {
     /// Replace models already in `--out` (the shipped `models/` among them).
     #[arg(long)]
     force: bool,
-    /// Mappings to train (mu, theta, dv); all three when absent.
+    /// Mappings to train (mu, theta, dv, ext); all four when absent.
     #[arg(long = "mapping")]
     mappings: Vec<String>,
     /// Skip the cross-validated choice of hyper-parameters and train with XGBoost's defaults.
@@ -48,6 +48,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let files: Vec<PathBuf> = ["json", "meta.json", "domain.json", "tuning.json"]
             .iter()
             .map(|suffix| args.out.join(format!("{}.{suffix}", mapping.name)))
+            .chain([IntervalCalibration::path(&args.out, mapping.name)])
+            .chain(
+                mapping
+                    .outputs
+                    .iter()
+                    .map(|o| IntervalCalibration::trees_path(&args.out, mapping.name, o)),
+            )
             .collect();
         crate::output_guard::refuse_any_unless_force(
             &files,
@@ -80,6 +87,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let t = Instant::now();
         let model = TrainedModel::fit(mapping, &samples, &params)?;
         let train_s = t.elapsed().as_secs_f64();
+        let model = with_intervals(mapping, model, &samples, &params)?;
         model
             .save(&args.out)
             .with_context(|| format!("saving the {} model", mapping.name))?;
@@ -132,6 +140,42 @@ fn tune(
         errors_by_output(mapping.outputs, &tuning.untuned.per_output)
     );
     Ok(tuning.chosen.params)
+}
+
+/// `model` with its intervals calibrated on the folds of `samples` (those of tuning), or as
+/// it is, with a warning, when the data hold too few simulations to leave one out.
+fn with_intervals(
+    mapping: &Mapping,
+    model: TrainedModel,
+    samples: &Samples,
+    params: &HyperParameters,
+) -> anyhow::Result<TrainedModel> {
+    let t = Instant::now();
+    let study = match IntervalStudy::run(mapping, samples, params, DEFAULT_LEVEL) {
+        Ok(study) => study,
+        Err(e) => {
+            eprintln!(
+                "warning: {}: saved without intervals, which need held-out rows to calibrate \
+                 on: {e}",
+                mapping.name
+            );
+            return Ok(model);
+        }
+    };
+    let c = &study.calibration;
+    println!(
+        "{}: {:.0} % intervals calibrated on {} folds (one of the {} left out each) in {:.1} s: \
+         held-out rows covered {}; mean width {}",
+        mapping.name,
+        100.0 * DEFAULT_LEVEL,
+        c.folds,
+        c.held_out,
+        t.elapsed().as_secs_f64(),
+        errors_by_output(mapping.outputs, &c.fold_coverage),
+        widths_by_output(mapping.outputs, &c.fold_mean_width)
+    );
+    let trees = model.fit_quantile_trees(samples, params)?;
+    Ok(model.with_intervals(trees, study.calibration)?)
 }
 
 /// Removes `<out>/<mapping>.tuning.json` left by an earlier tuned run: it would describe a

@@ -7,15 +7,23 @@
 //! simulation (`scene_id`), and the lowest mean relative L2 error wins. The search is
 //! recorded in `DIR/<mapping>.tuning.json`, next to the error of XGBoost's defaults (the
 //! thesis's untuned setting). `--no-tune` trains with those defaults directly.
+//!
+//! Each model is saved with its intervals (`surrogate::IntervalStudy`: quantile trees and the
+//! conformal scores of the rows predicted by folds that held them out). When the `dv` and
+//! `theta` mappings are trained together, the bands of `solve` are calibrated too
+//! (`solver::calibrate_bands`: every family's scenes solved with the models of its fold),
+//! into `<out>/bands.json`.
 use anyhow::Context;
-use std::path::PathBuf;
+use solver::{calibrate_bands, BandCalibration, ShippedModel};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use surrogate::{
     standard_grid, Dataset, HyperParameters, IntervalCalibration, IntervalStudy, Mapping,
     ModelMeta, Samples, TableKind, TrainedModel, Tuning, DEFAULT_LEVEL,
 };
 
-use crate::surrogate_text::{describe, errors_by_output, warn_skipped, widths_by_output};
+use crate::surrogate_text::{describe, errors_by_output, percent, warn_skipped, widths_by_output};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -63,6 +71,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "give another --out",
         )?;
     }
+    let names: Vec<&str> = mappings.iter().map(|m| m.name).collect();
+    if names.contains(&"dv") && names.contains(&"theta") {
+        crate::output_guard::refuse_unless_force(
+            &BandCalibration::path(&args.out),
+            args.force,
+            "the calibration of solve's bands",
+            "give another --out",
+        )?;
+    }
     // A table without scene ids has no kind; Samples::from_dataset names that problem below.
     if let Ok(kind) = TableKind::of(&dataset) {
         println!(
@@ -72,6 +89,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let started = Instant::now();
+    let mut studies = Vec::new();
     for mapping in mappings {
         let mut samples = Samples::from_dataset(&dataset, mapping)?;
         warn_skipped(mapping, &samples);
@@ -87,7 +105,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let t = Instant::now();
         let model = TrainedModel::fit(mapping, &samples, &params)?;
         let train_s = t.elapsed().as_secs_f64();
-        let model = with_intervals(mapping, model, &samples, &params)?;
+        let (model, study) = with_intervals(mapping, model, &samples, &params)?;
+        studies.extend(study.map(|s| (mapping, params.clone(), s)));
         model
             .save(&args.out)
             .with_context(|| format!("saving the {} model", mapping.name))?;
@@ -102,11 +121,68 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             errors_by_output(mapping.outputs, &model.evaluate(&samples)?)
         );
     }
+    bands(&dataset, &studies, &args.out)?;
     println!(
         "models in {} ({:.3} s in all)",
         args.out.display(),
         started.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+/// Calibrates the bands of `solve` on the training scenes (`solver::calibrate_bands`) and
+/// writes `<out>/bands.json`, when this run trained the `dv` and `theta` mappings with
+/// intervals; otherwise says why not.
+fn bands(
+    dataset: &Dataset,
+    studies: &[(&'static Mapping, HyperParameters, IntervalStudy)],
+    out: &Path,
+) -> anyhow::Result<()> {
+    let trained = |name: &str| studies.iter().any(|(m, _, _)| m.name == name);
+    if !(trained("dv") && trained("theta")) {
+        if BandCalibration::path(out).exists() {
+            eprintln!(
+                "warning: {} was left as it was: the bands of `solve` are calibrated when \
+                 `dv` and `theta` are trained together (with `ext` for its closure)",
+                BandCalibration::path(out).display()
+            );
+        }
+        return Ok(());
+    }
+    let t = Instant::now();
+    let models: Vec<ShippedModel> = studies
+        .iter()
+        .map(|(mapping, params, study)| ShippedModel {
+            mapping,
+            params,
+            study,
+        })
+        .collect();
+    let families = AtomicUsize::new(0);
+    let calibration = calibrate_bands(dataset, &models, crate::CODE_VERSION, &|family| {
+        let k = families.fetch_add(1, Ordering::Relaxed) + 1;
+        eprintln!("  bands: [{k}] solved the scenes of `{family}` with its fold's models");
+    })
+    .context("calibrating the bands of solve")?;
+    calibration.save(out)?;
+    println!(
+        "bands of solve calibrated on {} folds (one of the {} left out each) in {:.1} s:",
+        calibration.folds,
+        calibration.held_out,
+        t.elapsed().as_secs_f64()
+    );
+    for c in &calibration.closures {
+        println!(
+            "  {:<8} {} scenes ({} stalled), held-out bins covered at 90 %: u {}, phi_loc {}, \
+             mu {}",
+            c.closure,
+            c.scenes,
+            c.failed,
+            percent(c.fold_coverage[0]),
+            percent(c.fold_coverage[1]),
+            percent(c.fold_coverage[2])
+        );
+    }
     Ok(())
 }
 
@@ -142,14 +218,15 @@ fn tune(
     Ok(tuning.chosen.params)
 }
 
-/// `model` with its intervals calibrated on the folds of `samples` (those of tuning), or as
-/// it is, with a warning, when the data hold too few simulations to leave one out.
+/// `model` with its intervals calibrated on the folds of `samples` (those of tuning), and
+/// the study that calibrated them; or the model as it is, with a warning, when the data
+/// hold too few simulations to leave one out.
 fn with_intervals(
     mapping: &Mapping,
     model: TrainedModel,
     samples: &Samples,
     params: &HyperParameters,
-) -> anyhow::Result<TrainedModel> {
+) -> anyhow::Result<(TrainedModel, Option<IntervalStudy>)> {
     let t = Instant::now();
     let study = match IntervalStudy::run(mapping, samples, params, DEFAULT_LEVEL) {
         Ok(study) => study,
@@ -159,7 +236,7 @@ fn with_intervals(
                  on: {e}",
                 mapping.name
             );
-            return Ok(model);
+            return Ok((model, None));
         }
     };
     let c = &study.calibration;
@@ -175,7 +252,8 @@ fn with_intervals(
         widths_by_output(mapping.outputs, &c.fold_mean_width)
     );
     let trees = model.fit_quantile_trees(samples, params)?;
-    Ok(model.with_intervals(trees, study.calibration)?)
+    let model = model.with_intervals(trees, study.calibration.clone())?;
+    Ok((model, Some(study)))
 }
 
 /// Removes `<out>/<mapping>.tuning.json` left by an earlier tuned run: it would describe a

@@ -27,7 +27,9 @@ pub mod rheology;
 pub mod validation;
 
 pub use data::dataset::{Dataset, GROUP_COLUMN, PROFILE_COLUMN};
-pub use data::extremum_distance::{distance_to_nearest, extremum_distances, shear_zeros};
+pub use data::extremum_distance::{
+    distance_to_nearest, extremum_distances, shear_zero_faces, shear_zeros, ShearZero,
+};
 pub use data::mapping::{Mapping, MAPPINGS};
 pub use data::physical_range::{clip_to_physical_range, physical_range, PHI_LOC_MAX};
 pub use data::samples::Samples;

@@ -183,6 +183,29 @@ impl Dataset {
         Ok(with)
     }
 
+    /// The rows `rows` (0-based, in that order) of this dataset, every column kept; the
+    /// source's name and fingerprint are kept too (the rows came from it). Refuses an index
+    /// out of range or no rows.
+    pub fn select_rows(&self, rows: &[usize]) -> Result<Dataset> {
+        if rows.is_empty() || rows.iter().any(|&r| r >= self.n_rows) {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "{}: cannot select rows {:?} of {}",
+                self.source_name,
+                rows.iter().take(5).collect::<Vec<_>>(),
+                self.n_rows
+            )));
+        }
+        let mut with = self.clone();
+        with.columns = self
+            .columns
+            .iter()
+            .map(|c| Column::new(rows.iter().map(|&r| c.text[r].clone()).collect()))
+            .collect();
+        with.lines = rows.iter().map(|&r| self.line(r)).collect();
+        with.n_rows = rows.len();
+        Ok(with)
+    }
+
     /// The line of the source on which data row `row` (0-based) starts; the header is line 1.
     pub fn line(&self, row: usize) -> u64 {
         self.lines.get(row).copied().unwrap_or(row as u64 + 2)

@@ -26,17 +26,51 @@ use schema::columns as col;
 /// velocities `u` on periodic bins of width `width`, in increasing order of the face before
 /// them.
 pub fn shear_zeros(u: &[f64], width: f64) -> Vec<f64> {
+    shear_zero_faces(u, width)
+        .into_iter()
+        .map(|z| z.position)
+        .collect()
+}
+
+/// A zero of the face shear rates: where it lies, and the face `k` after which it does
+/// (between faces `k` and `k + 1`, or on face `k`), whose rate is `g_k` and the next's
+/// `g_{k+1}`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShearZero {
+    pub position: f64,
+    pub face: usize,
+    pub rates: (f64, f64),
+}
+
+impl ShearZero {
+    /// `d position / d (u_k, u_{k+1}, u_{k+2})` on bins of width `width`: the zero
+    /// `(k + 1) w + w a / (a - b)` with `a = g_k = (u_{k+1} - u_k) / w` and
+    /// `b = g_{k+1} = (u_{k+2} - u_{k+1}) / w` moves by `dz/da = -w b / (a - b)^2` and
+    /// `dz/db = w a / (a - b)^2`.
+    pub fn gradient(&self, width: f64) -> [f64; 3] {
+        let (a, b) = self.rates;
+        let d = (a - b) * (a - b);
+        let (dz_da, dz_db) = (-width * b / d, width * a / d);
+        // da/du = (-1, 1, 0) / w, db/du = (0, -1, 1) / w.
+        [-dz_da / width, (dz_da - dz_db) / width, dz_db / width]
+    }
+}
+
+/// The zeros of [`shear_zeros`], with their faces and rates.
+pub fn shear_zero_faces(u: &[f64], width: f64) -> Vec<ShearZero> {
     let n = u.len();
     let length = n as f64 * width;
-    let g: Vec<f64> = (0..n).map(|k| u[(k + 1) % n] - u[k]).collect();
+    let g: Vec<f64> = (0..n).map(|k| (u[(k + 1) % n] - u[k]) / width).collect();
     let mut zeros = Vec::new();
     for k in 0..n {
         let (a, b) = (g[k], g[(k + 1) % n]);
         let face = (k + 1) as f64 * width;
-        if a == 0.0 && b != 0.0 {
-            zeros.push(face % length);
-        } else if a * b < 0.0 {
-            zeros.push((face + width * a / (a - b)) % length);
+        if (a == 0.0 && b != 0.0) || a * b < 0.0 {
+            zeros.push(ShearZero {
+                position: (face + width * a / (a - b)) % length,
+                face: k,
+                rates: (a, b),
+            });
         }
     }
     zeros
@@ -175,6 +209,27 @@ mod tests {
             "{d:?}"
         );
         assert!(d.iter().all(|&x| (0.0..=10.0).contains(&x)));
+    }
+
+    #[test]
+    fn a_zero_moves_with_the_velocities_as_its_gradient_says() {
+        let u = [0.0, 1.0, 1.5, 0.7, -0.2];
+        let (w, h) = (2.0, 1e-7);
+        let zeros = shear_zero_faces(&u, w);
+        for z in &zeros {
+            let gradient = z.gradient(w);
+            for (i, g) in gradient.iter().enumerate() {
+                let bin = (z.face + i) % u.len();
+                let mut moved = u;
+                moved[bin] += h;
+                let after = shear_zero_faces(&moved, w)
+                    .into_iter()
+                    .find(|m| m.face == z.face)
+                    .unwrap();
+                let numeric = (after.position - z.position) / h;
+                assert!((numeric - g).abs() < 1e-5, "bin {bin}: {numeric} vs {g}");
+            }
+        }
     }
 
     #[test]

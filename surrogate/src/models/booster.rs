@@ -376,7 +376,7 @@ impl Booster {
     }
 
     /// The model as XGBoost JSON bytes.
-    fn to_json(&self) -> Result<Vec<u8>> {
+    pub(crate) fn to_json(&self) -> Result<Vec<u8>> {
         let mut json = self.inner.save_buffer(false)?;
         // The C API may count a terminating NUL in the length.
         if json.last() == Some(&0) {

@@ -158,6 +158,11 @@ impl TrainedModel {
         Ok(self)
     }
 
+    /// The XGBoost booster of the model's own trees.
+    pub(crate) fn booster(&self) -> &Booster {
+        &self.booster
+    }
+
     /// The calibrated intervals, if the model has them.
     pub fn intervals(&self) -> Option<&ModelIntervals<Booster>> {
         self.intervals.as_ref()

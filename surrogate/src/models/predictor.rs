@@ -12,7 +12,7 @@ use crate::data::training_domain::{DomainCheck, TrainingDomain};
 use crate::error::Result;
 use crate::models::forest::Forest;
 use crate::models::intervals::{check_level, load_intervals, widen, Intervals, ModelIntervals};
-use crate::models::model::ModelMeta;
+use crate::models::model::{ModelMeta, TrainedModel};
 
 /// A saved model, ready to predict, with its intervals when it was saved with them.
 #[derive(Debug, Clone)]
@@ -48,6 +48,29 @@ impl Predictor {
             meta,
             forest,
             domain,
+            intervals,
+        })
+    }
+
+    /// The predictor of a model trained in this process, as [`Predictor::load`] would read it
+    /// back after [`TrainedModel::save`] (its trees through their XGBoost JSON).
+    pub fn of(model: &TrainedModel) -> Result<Self> {
+        let forest = |booster: &crate::models::booster::Booster| {
+            Forest::from_json(&booster.to_json()?, "a model trained in this process")
+        };
+        let intervals = model
+            .intervals()
+            .map(|i| -> Result<_> {
+                Ok(ModelIntervals {
+                    calibration: i.calibration.clone(),
+                    trees: i.trees.iter().map(forest).collect::<Result<Vec<_>>>()?,
+                })
+            })
+            .transpose()?;
+        Ok(Predictor {
+            meta: model.meta().clone(),
+            forest: forest(model.booster())?,
+            domain: model.domain().clone(),
             intervals,
         })
     }

@@ -26,13 +26,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::data::mapping::Mapping;
 use crate::data::samples::Samples;
-use crate::error::Result;
+use crate::error::{Result, SurrogateError};
 use crate::models::booster::HyperParameters;
 use crate::models::intervals::{
     check_level, conformal_quantile, mean_widths, quantile_ends, widen, IntervalCalibration,
     Intervals, DEFAULT_LEVEL, QUANTILE_LEVELS,
 };
-use crate::models::model::TrainedModel;
+use crate::models::model::{ModelMeta, TrainedModel};
 use crate::validation::family_folds::{tuning_folds, LeftOut};
 
 /// Per-fold coverage below this, or above [`FOLD_COVERAGE_HIGH`], is counted as a fold the
@@ -130,6 +130,10 @@ struct OutOfFold {
 pub struct IntervalStudy {
     pub calibration: IntervalCalibration,
     pub coverage: IntervalCoverage,
+    /// Every row's conformity scores (rows x outputs) and the name of the fold (family or
+    /// simulation) that held it out.
+    scores: Array2<f64>,
+    held_out_by: Vec<String>,
 }
 
 impl IntervalStudy {
@@ -207,8 +211,11 @@ impl IntervalStudy {
                 }
             })
             .collect();
+        let held_out_by = oof.fold.iter().map(|&f| oof.names[f].clone()).collect();
         Ok(IntervalStudy {
             calibration,
+            scores: cqr,
+            held_out_by,
             coverage: IntervalCoverage {
                 mapping: mapping.name.to_owned(),
                 outputs: samples.output_names.clone(),
@@ -217,6 +224,35 @@ impl IntervalStudy {
                 methods,
                 folds: fold_coverage,
             },
+        })
+    }
+}
+
+impl IntervalStudy {
+    /// The calibration of a model trained without the rows of fold `held_out` (a family or
+    /// simulation of this study), `meta` its sidecar: the scores of every other fold's rows,
+    /// which came from models that did not see them either (cross-conformal). Its
+    /// `fold_coverage` and `fold_mean_width` are the whole study's.
+    pub fn calibration_without(
+        &self,
+        held_out: &str,
+        meta: &ModelMeta,
+    ) -> Result<IntervalCalibration> {
+        let rows: Vec<usize> = (0..self.held_out_by.len())
+            .filter(|&i| self.held_out_by[i] != held_out)
+            .collect();
+        if rows.len() == self.held_out_by.len() {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "no fold of the intervals' study of `{}` held out `{held_out}`",
+                self.calibration.mapping
+            )));
+        }
+        let part = self.scores.select(Axis(0), &rows);
+        Ok(IntervalCalibration {
+            training_fnv1a_64: meta.training_data.fnv1a_64,
+            training_rows: meta.training_data.rows,
+            scores: part.columns().into_iter().map(sorted).collect(),
+            ..self.calibration.clone()
         })
     }
 }

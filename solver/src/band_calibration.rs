@@ -14,7 +14,7 @@ use schema::columns as col;
 use sim::{Scene, SceneFile};
 use surrogate::{
     family_names, fraction, Dataset, HyperParameters, IntervalStudy, Mapping, Predictor, Samples,
-    TrainedModel, DEFAULT_LEVEL, PROFILE_COLUMN,
+    TrainedModel, DEFAULT_LEVEL, MIN_TUNING_FAMILIES, PROFILE_COLUMN,
 };
 
 use crate::bands::{BandCalibration, BandScales, ClosureBands, ProfileBands, BANDED};
@@ -75,6 +75,15 @@ pub fn calibrate_bands(
         .filter(|k| k.mapping().is_none_or(|m| find(m).is_some()))
         .collect();
     let families = family_names(&Samples::from_dataset(train, find("dv").unwrap().mapping)?)?;
+    if families.len() < MIN_TUNING_FAMILIES {
+        return Err(SolverError::InvalidArgument(format!(
+            "the bands are calibrated leaving one profile family out: {} holds {} famil{}, \
+             at least {MIN_TUNING_FAMILIES} are needed",
+            train.source_name(),
+            families.len(),
+            if families.len() == 1 { "y" } else { "ies" }
+        )));
+    }
     let row_families = train.text(PROFILE_COLUMN)?;
     let per_fold = families
         .par_iter()

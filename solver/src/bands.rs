@@ -131,22 +131,8 @@ impl ProfileProblem {
         level: f64,
     ) -> Result<BandScales> {
         check_level(level)?;
-        let layout = self.layout(closure);
+        let (layout, x) = self.state_of(closure, s)?;
         let n = layout.n;
-        if s.u.len() != n {
-            return Err(SolverError::InvalidArgument(format!(
-                "a solution of {} bins for a problem of {n}",
-                s.u.len()
-            )));
-        }
-        let mut x = DVector::zeros(layout.len());
-        x.rows_mut(0, n).copy_from_slice(&s.u);
-        x[layout.ln_p()] = s.pressure.ln();
-        if layout.balance.is_some() {
-            for (k, t) in s.theta.iter().enumerate() {
-                x[layout.theta(k)] = t.ln();
-            }
-        }
         let floor = self.floor();
         let zeros = self.zeros(closure, layout, &x);
         let half = |i: Option<ClosureInterval>, output: usize| {
@@ -166,10 +152,33 @@ impl ProfileProblem {
         let mu_scale = (0..n)
             .map(|k| 0.5 * (face_mu[(k + n - 1) % n] + face_mu[k]))
             .collect();
+        let [from_phi, from_mu] = self.responses(closure, s, level)?;
+        let u_scale = from_phi
+            .iter()
+            .zip(&from_mu)
+            .map(|(a, b)| f64::hypot(*a, *b))
+            .collect();
+        Ok(BandScales {
+            per_observable: [u_scale, phi_scale, mu_scale],
+        })
+    }
+
+    /// The linear response of the solution `s`'s bin velocities to `closure` moved to the
+    /// upper end of its interval at `level`, in phi_loc and in mu in turn:
+    /// `delta u = -(J^-1 (R(x; upper) - R(x)))_u` with `J` the balance's Jacobian at `s`.
+    /// Zero for a closure without intervals.
+    pub fn responses(
+        &self,
+        closure: &dyn Closure,
+        s: &ProfileSolution,
+        level: f64,
+    ) -> Result<[Vec<f64>; 2]> {
+        let (layout, x) = self.state_of(closure, s)?;
+        let floor = self.floor();
+        let zeros = self.zeros(closure, layout, &x);
         let base = self.evaluate(closure, layout, &x, floor, Some(&zeros))?;
         let lu = self.jacobian(closure, layout, &x, &base, floor)?.lu();
-        let mut u_scale = vec![0.0; n];
-        for output in 0..2 {
+        let response = |output: usize| -> Result<Vec<f64>> {
             let moved = AtUpperEnd {
                 closure,
                 output,
@@ -181,13 +190,36 @@ impl ProfileProblem {
                     "the balance's Jacobian at the solution is singular: no band".to_owned(),
                 )
             })?;
-            for (scale, d) in u_scale.iter_mut().zip(dx.iter()) {
-                *scale = f64::hypot(*scale, *d);
+            Ok(dx.rows(0, layout.n).iter().copied().collect())
+        };
+        Ok([response(0)?, response(1)?])
+    }
+
+    /// The state vector of solution `s` of `closure`: `u`, `ln P` and, for the nonlocal
+    /// closure, `ln Theta`.
+    fn state_of<'a>(
+        &self,
+        closure: &'a dyn Closure,
+        s: &ProfileSolution,
+    ) -> Result<(crate::newton::Layout<'a>, DVector<f64>)> {
+        let layout = self.layout(closure);
+        let n = layout.n;
+        if s.u.len() != n || (layout.balance.is_some() && s.theta.len() != n) {
+            return Err(SolverError::InvalidArgument(format!(
+                "a solution of {} bins ({} Theta) for a problem of {n} with this closure",
+                s.u.len(),
+                s.theta.len()
+            )));
+        }
+        let mut x = DVector::zeros(layout.len());
+        x.rows_mut(0, n).copy_from_slice(&s.u);
+        x[layout.ln_p()] = s.pressure.ln();
+        if layout.balance.is_some() {
+            for (k, t) in s.theta.iter().enumerate() {
+                x[layout.theta(k)] = t.ln();
             }
         }
-        Ok(BandScales {
-            per_observable: [u_scale, phi_scale, mu_scale],
-        })
+        Ok((layout, x))
     }
 
     /// The scales of a closure without intervals: the forcing's largest |u_inf| for u, 1 for

@@ -19,8 +19,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use surrogate::{
-    standard_grid, Dataset, HyperParameters, IntervalCalibration, IntervalStudy, Mapping,
-    ModelMeta, Samples, TableKind, TrainedModel, Tuning, DEFAULT_LEVEL,
+    standard_grid, Dataset, HyperParameters, IntervalCalibration, IntervalStudy, LeftOut, Mapping,
+    ModelMeta, Samples, TableKind, TrainedModel, Tuning, DEFAULT_LEVEL, MIN_TUNING_FAMILIES,
 };
 
 use crate::surrogate_text::{describe, errors_by_output, percent, warn_skipped, widths_by_output};
@@ -42,8 +42,16 @@ pub struct Args {
     #[arg(long = "mapping")]
     mappings: Vec<String>,
     /// Skip the cross-validated choice of hyper-parameters and train with XGBoost's defaults.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "params_from")]
     no_tune: bool,
+    /// Skip the choice too, and train each mapping with the hyper-parameters of its model in
+    /// this directory (e.g. the shipped `models`, to retrain them on more data).
+    #[arg(long)]
+    params_from: Option<PathBuf>,
+    /// Skip the calibration of solve's bands (`bands.json`, a minute of solves) even when
+    /// `dv` and `theta` are trained.
+    #[arg(long)]
+    no_bands: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -72,7 +80,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )?;
     }
     let names: Vec<&str> = mappings.iter().map(|m| m.name).collect();
-    if names.contains(&"dv") && names.contains(&"theta") {
+    if names.contains(&"dv") && names.contains(&"theta") && !args.no_bands {
         crate::output_guard::refuse_unless_force(
             &BandCalibration::path(&args.out),
             args.force,
@@ -99,6 +107,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let params = if args.no_tune {
             remove_stale_tuning(&args.out, mapping)?;
             HyperParameters::default()
+        } else if let Some(dir) = &args.params_from {
+            remove_stale_tuning(&args.out, mapping)?;
+            ModelMeta::load_params(dir, mapping.name)
+                .with_context(|| format!("--params-from {}", dir.display()))?
         } else {
             tune(mapping, &samples, &args.out)?
         };
@@ -121,7 +133,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             errors_by_output(mapping.outputs, &model.evaluate(&samples)?)
         );
     }
-    bands(&dataset, &studies, &args.out)?;
+    if !args.no_bands {
+        bands(&dataset, &studies, &args.out)?;
+    }
     println!(
         "models in {} ({:.3} s in all)",
         args.out.display(),
@@ -147,6 +161,17 @@ fn bands(
                 BandCalibration::path(out).display()
             );
         }
+        return Ok(());
+    }
+    if let Some((mapping, _, study)) = studies
+        .iter()
+        .find(|(_, _, s)| s.calibration.held_out != LeftOut::Family.plural())
+    {
+        eprintln!(
+            "note: no bands for solve: they are calibrated leaving one profile family out, and \
+             `{}`'s folds left out {} (fewer than {MIN_TUNING_FAMILIES} families)",
+            mapping.name, study.calibration.held_out
+        );
         return Ok(());
     }
     let t = Instant::now();

@@ -300,6 +300,13 @@ impl ModelMeta {
         }
     }
 
+    /// The hyper-parameters of the model of mapping `name` saved in `dir` (its sidecar's).
+    pub fn load_params(dir: &Path, name: &str) -> Result<HyperParameters> {
+        let meta: ModelMeta =
+            files::read_json(&ModelPaths::new(dir, name).meta, "a model sidecar")?;
+        Ok(meta.hyper_parameters)
+    }
+
     /// How `train` records `data` for a model saved in `model_dir` ([`ModelMeta::training_file`]
     /// reads it back): relative to the folder holding `model_dir` when `data` lies below it,
     /// else as an absolute path.

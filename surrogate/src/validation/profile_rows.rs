@@ -58,6 +58,9 @@ pub struct ThetaVsDv<'a> {
     pub output: &'a str,
     pub theta: f64,
     pub dv: f64,
+    /// The profile's targets' own noise in the same measure (the two models share the
+    /// training ranges); `None` without standard errors.
+    pub noise: Option<f64>,
 }
 
 impl ThetaVsDv<'_> {
@@ -91,6 +94,7 @@ pub fn theta_vs_dv<'a>(
                 output,
                 theta: t.per_output[j],
                 dv: d.per_output[j],
+                noise: t.target_noise.as_ref().map(|n| n[j]),
             });
         }
     }

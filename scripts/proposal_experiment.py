@@ -22,6 +22,7 @@ step is skipped when its output is there, so an interrupted run resumes.
 import argparse
 import csv
 import json
+import math
 import os
 import random
 import re
@@ -87,6 +88,31 @@ def random_grid(candidates_grid, chosen_cases, name, path):
     )
     with open(path, "w") as f:
         f.write(head + cases)
+
+
+def margins(models):
+    """The learned closure's 90 % band margins (u, phi_loc, mu) of a models folder's bands.json."""
+    with open(os.path.join(models, "bands.json")) as f:
+        bands = json.load(f)
+    closure = next(c for c in bands["closures"] if c["closure"] == CLOSURE)
+    out = []
+    for scores in closure["scores"]:
+        rank = math.ceil((len(scores) + 1) * 0.9)
+        out.append(scores[rank - 1] if rank <= len(scores) else float("inf"))
+    return out
+
+
+def mu_noise(table):
+    """The mean over a table's scenes of mu's own noise, ||mu_se|| / ||mu||."""
+    with open(table) as f:
+        rows = [r for r in csv.DictReader(f) if r["mu"] and r["mu_se"]]
+    scenes = {}
+    for r in rows:
+        scenes.setdefault(r["scene_id"], []).append(r)
+    return mean([
+        math.sqrt(sum(float(r["mu_se"]) ** 2 for r in rs) / sum(float(r["mu"]) ** 2 for r in rs))
+        for rs in scenes.values()
+    ])
 
 
 def mean(values):
@@ -161,6 +187,27 @@ def main():
         lines.append(
             f"| {label} | {all_mean:.4f} | {rest:.4f} | {w[0]:.4f} | {w[1]:.4f} | {w[2]:.4f} |"
         )
+    shipped = margins(args.models)
+    lines += [
+        "\nWhere the change comes from: a band is its margin (from the held-out scores, "
+        "`bands.json`) times each bin's scale (from the closure's intervals). The learned "
+        "closure's 90 % margins of u, phi_loc and mu, the mean relative widths over all "
+        "candidates had the margins stayed the shipped ones (the scales' change alone), and "
+        "the added scenes' own mu noise (`||mu_se|| / ||mu||`, mean over their scenes):\n",
+        "| models | margins u, phi_loc, mu | widths at the shipped margins | mean of them | "
+        "added scenes' mu noise |",
+        "|---|---|---|---|---|",
+        f"| shipped | {', '.join(f'{m:.3f}' for m in shipped)} | "
+        + ", ".join(f"{mean([v[3][k] for v in before.values()]):.4f}" for k in range(3))
+        + f" | {mean([v[2] for v in before.values()]):.4f} | "
+        f"{mu_noise(args.train_runs.replace('.csv', '.ensemble.csv')):.3f} (training) |",
+    ]
+    for arm, r in after.items():
+        m = margins(os.path.join(args.out, "models", arm))
+        at = [mean([v[3][k] * shipped[k] / m[k] for v in r.values()]) for k in range(3)]
+        noise = mu_noise(os.path.join(args.out, "datasets", f"{arm}.ensemble.csv"))
+        lines.append(f"| `{arm}` | {', '.join(f'{x:.3f}' for x in m)} | "
+                     + ", ".join(f"{x:.4f}" for x in at) + f" | {mean(at):.4f} | {noise:.3f} |")
     lines.append("\nScenes per arm (runs that reached no steady state are left out of the "
                  "training table; `datasets/<arm>.scenes.csv` says why):\n")
     for arm, cases in arms.items():

@@ -89,17 +89,7 @@ pub fn solve(
         }
         Bands::Missing(why) => (None, None, Some(why)),
     };
-    let f = &scene.file;
-    let solved = SolvedProfile {
-        scene_id: &f.name,
-        profile: &f.fluid.profile,
-        l_y: f.box_.l_y,
-        phi: f.particles.phi,
-        problem: &problem,
-        solution: s,
-        checks: &checks,
-        bands: profile_bands.as_ref(),
-    };
+    let solved = SolvedProfile::of_scene(scene, &problem, s, &checks, profile_bands.as_ref());
     Ok(Solution {
         columns: solved.numeric_columns(),
         in_domain: checks.iter().map(|c| c.inside()).collect(),

@@ -234,7 +234,9 @@ fn problem_of(data: &Dataset, rows: &[usize]) -> Result<ProfileProblem> {
     ProfileProblem::from_scene(&scene)
 }
 
-/// The scores `|truth - solved| / scale` of every bin, and the band widths at a margin of 1.
+/// The scores `|truth - solved| / scale` of every bin where the table defines the truth (an
+/// empty cell, mu where the bin's pressure was not positive, has none), and the band widths
+/// at a margin of 1.
 fn score(
     solution: &crate::solution::ProfileSolution,
     scales: &BandScales,
@@ -249,6 +251,7 @@ fn score(
             .iter()
             .zip(&truth[i])
             .zip(&scales.per_observable[i])
+            .filter(|((_, t), _)| t.is_finite())
             .map(|((&s, &t), &scale)| (t - s).abs() / scale.max(f64::MIN_POSITIVE))
             .collect()
     });

@@ -27,7 +27,29 @@ pub struct SolvedProfile<'a> {
     pub bands: Option<&'a ProfileBands>,
 }
 
-impl SolvedProfile<'_> {
+impl<'a> SolvedProfile<'a> {
+    /// The solved profile of `scene`: its name, forcing, box height and volume fraction
+    /// with the solve's problem, solution, domain checks and bands.
+    pub fn of_scene(
+        scene: &'a sim::Scene,
+        problem: &'a ProfileProblem,
+        solution: &'a ProfileSolution,
+        checks: &'a [DomainCheck],
+        bands: Option<&'a ProfileBands>,
+    ) -> Self {
+        let f = &scene.file;
+        SolvedProfile {
+            scene_id: &f.name,
+            profile: &f.fluid.profile,
+            l_y: f.box_.l_y,
+            phi: f.particles.phi,
+            problem,
+            solution,
+            checks,
+            bands,
+        }
+    }
+
     /// The numeric columns per bin, in `profile.csv`'s order after `scene_id` and `profile`:
     /// `L_y, phi, y, u_inf, u, gdot, sigma_xy, P, phi_loc, J, mu, Theta` (NaN unless the
     /// closure solved for Theta), `Delta_v, f_x, d_ext`, then with bands `u_lower, u_upper,

@@ -118,22 +118,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             (None, None)
         }
     };
-    let f = &scene.file;
-    let solved = SolvedProfile {
-        scene_id: &f.name,
-        profile: &f.fluid.profile,
-        l_y: f.box_.l_y,
-        phi: f.particles.phi,
-        problem: &problem,
-        solution: &solution,
-        checks: &checks,
-        bands: profile_bands.as_ref(),
-    };
+    let solved =
+        SolvedProfile::of_scene(&scene, &problem, &solution, &checks, profile_bands.as_ref());
     std::fs::write(&profile_csv, solved.to_csv()?)
         .with_context(|| format!("writing {}", profile_csv.display()))?;
     let outside = checks.iter().filter(|c| !c.inside()).count();
     let summary = SolveSummary {
-        scene: f.name.clone(),
+        scene: scene.file.name.clone(),
         closure: args.closure.name(),
         theta_balance: closures.theta_fit,
         bins: problem.n_bins(),
@@ -153,7 +144,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     )?;
     println!(
         "{}: {} closure, {} bins, {} Newton iterations{}, residual {:.1e}, P {:.4}, {:.1} ms -> {}",
-        f.name,
+        scene.file.name,
         args.closure.name(),
         summary.bins,
         solution.iterations,

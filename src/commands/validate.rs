@@ -130,14 +130,7 @@ fn print_errors(c: &Checked) {
         "  relative L2 error (eq 6.6), outputs scaled with the training ranges, and in brackets \
          its part beyond the targets' own noise, sqrt(max(0, error^2 - noise^2)):"
     );
-    let width = c
-        .validation
-        .errors
-        .iter()
-        .map(|e| e.profile.len())
-        .max()
-        .unwrap_or(0)
-        .max(26);
+    let width = profile_width(c);
     let header: String = c
         .mapping
         .outputs
@@ -183,6 +176,17 @@ fn print_errors(c: &Checked) {
     }
 }
 
+/// The width of the profile column of `c`'s tables: its longest profile, at least 26.
+fn profile_width(c: &Checked) -> usize {
+    c.validation
+        .errors
+        .iter()
+        .map(|e| e.profile.len())
+        .max()
+        .unwrap_or(0)
+        .max(26)
+}
+
 /// The intervals' coverage and mean width per profile and output, beside their coverage on
 /// the calibration folds.
 fn print_coverage(c: &Checked, level: f64) {
@@ -199,14 +203,7 @@ fn print_coverage(c: &Checked, level: f64) {
         calibration.held_out,
         errors_by_output(c.mapping.outputs, &calibration.fold_coverage)
     );
-    let width = c
-        .validation
-        .errors
-        .iter()
-        .map(|e| e.profile.len())
-        .max()
-        .unwrap_or(0)
-        .max(26);
+    let width = profile_width(c);
     for error in c
         .validation
         .errors

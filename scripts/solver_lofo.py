@@ -105,7 +105,7 @@ def plug_errors(rows, solved_mu):
         "plug_centres_missed": sum(
             1 for k in centre
             if err[k] > max(PLUG_CENTRE_TOLERANCE,
-                            t95(rows[k]["replicas"]) * float(rows[k]["mu_se"]))),
+                            t95(rows[k].get("replicas", 1)) * float(rows[k]["mu_se"]))),
     }
 
 

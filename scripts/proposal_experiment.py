@@ -5,7 +5,7 @@ simulating as many candidates drawn at random? (issue 52, item 4)
 1. `propose` ranks the candidates of --candidates with the models of --models and writes the
    top --top as a grid; --draws grids of as many candidates drawn at random (seeded) are
    written beside it.
-2. Each grid is run by `generate` (short runs, two seeds: grids/propose_candidates.toml)
+2. Each grid is run by `generate` (runs of 1-4 minutes, three seeds: grids/propose_candidates.toml)
    and merged with the training runs (--train-runs) into a training table per arm.
 3. Each arm's table trains the four mappings with the models' own hyper-parameters (`train
    --params-from`), which also calibrates their intervals and the bands of `solve`.
@@ -167,25 +167,36 @@ def main():
     }
     added = {c for cases in arms.values() for c in cases}
     untouched = [i for i, v in before.items() if (v[0], v[1]) not in added]
-    rows = [("before (shipped models)", before)] + [(f"after adding `{a}`", r) for a, r in after.items()]
+    rows = [("before (shipped models)", None, before)] + [
+        (f"after adding `{a}`", a, r) for a, r in after.items()
+    ]
     summary = []
     lines = [
         "# Proposed scenes against random ones\n",
         f"Made by `scripts/proposal_experiment.py` (its docstring gives the method), closure "
         f"`{CLOSURE}`, 90 % bands, {args.top} scenes per arm, {args.draws} random draws (seed "
         f"{args.seed}). Score: a candidate's mean relative band width of u, phi_loc and mu "
-        f"(`propose`); means over all {len(before)} candidates and over the "
-        f"{len(untouched)} that no arm added.\n",
-        "| models | all candidates | not added by any arm | u | phi_loc | mu |",
-        "|---|---|---|---|---|---|",
+        f"(`propose`); means over all {len(before)} candidates, over the "
+        f"{len(untouched)} that no arm added, and over the {len(before) - args.top} or more "
+        f"that the arm itself did not add (in brackets the same candidates before). u, "
+        f"phi_loc, mu: the mean relative widths over all candidates.\n",
+        "| models | all candidates | not added by any arm | not added by this arm | u | phi_loc | mu |",
+        "|---|---|---|---|---|---|---|",
     ]
-    for label, r in rows:
+    for label, arm, r in rows:
         all_mean = mean([v[2] for v in r.values()])
         rest = mean([r[i][2] for i in untouched if i in r])
+        others = [i for i, v in before.items() if arm and (v[0], v[1]) not in arms[arm]]
+        own = mean([r[i][2] for i in others])
+        own_before = mean([before[i][2] for i in others])
         w = [mean([v[3][k] for v in r.values()]) for k in range(3)]
-        summary.append({"models": label, "all": all_mean, "not_added": rest, "widths": w})
+        summary.append({"models": label, "all": all_mean, "not_added": rest,
+                        "not_added_by_arm": own, "not_added_by_arm_before": own_before,
+                        "widths": w})
+        own_text = f"{own:.4f} ({own_before:.4f})" if arm else "-"
         lines.append(
-            f"| {label} | {all_mean:.4f} | {rest:.4f} | {w[0]:.4f} | {w[1]:.4f} | {w[2]:.4f} |"
+            f"| {label} | {all_mean:.4f} | {rest:.4f} | {own_text} | "
+            f"{w[0]:.4f} | {w[1]:.4f} | {w[2]:.4f} |"
         )
     shipped = margins(args.models)
     lines += [

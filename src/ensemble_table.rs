@@ -22,9 +22,9 @@ pub fn build(dataset: &Path, table: &RunTable) -> anyhow::Result<Ensemble> {
 /// Writes `ensemble` beside `dataset` (atomically) and returns its summary.
 pub fn write_beside(dataset: &Path, ensemble: Ensemble) -> anyhow::Result<EnsembleSummary> {
     let [table, summary] = paths(dataset);
-    sim::output::atomic_write::write_atomic(&table, &ensemble.csv)?;
+    schema::write_atomic(&table, &ensemble.csv)?;
     let json = serde_json::to_string_pretty(&ensemble.summary)? + "\n";
-    sim::output::atomic_write::write_atomic(&summary, json.as_bytes())?;
+    schema::write_atomic(&summary, json.as_bytes())?;
     Ok(ensemble.summary)
 }
 

@@ -6,11 +6,12 @@
 pub mod commands;
 mod cv_sections;
 mod ensemble_table;
-mod file_lock;
+pub mod exit_status;
+mod interrupt;
 mod output_guard;
 mod plots;
+mod progress;
 mod report;
-mod scene_work;
 mod surrogate_text;
 mod threads;
 

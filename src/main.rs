@@ -7,7 +7,7 @@ use clap::{Parser, Subcommand};
 #[derive(Parser)]
 #[command(
     name = "suspflow",
-    version,
+    version = suspflow::CODE_VERSION,
     about = "Dense-suspension rheology under inhomogeneous flow"
 )]
 struct Cli {
@@ -57,7 +57,19 @@ enum Command {
     BenchPredict(commands::bench_predict::Args),
 }
 
-fn main() -> anyhow::Result<()> {
+/// Runs the command; its error is printed and told by the exit status
+/// (`suspflow::exit_status`: bad input, runs failed, interrupted).
+fn main() -> std::process::ExitCode {
+    match run() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("Error: {e:?}");
+            std::process::ExitCode::from(suspflow::exit_status::of(&e))
+        }
+    }
+}
+
+fn run() -> anyhow::Result<()> {
     // XGBoost's OpenMP threads otherwise spin between parallel regions and stall next to
     // busy threads; set before any thread starts (see .cargo/config.toml).
     if std::env::var_os("OMP_WAIT_POLICY").is_none() {

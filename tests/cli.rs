@@ -48,6 +48,18 @@ fn bad_scenes_are_refused_naming_the_field() {
     }
 }
 
+/// `--version` names the commit the binary was built from, as every result records it.
+#[test]
+fn version_names_the_commit() {
+    let out = suspflow(&["--version"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && text.starts_with("suspflow 0.1.0+"),
+        "{text}"
+    );
+    assert!(!text.contains("unknown"), "{text}");
+}
+
 #[test]
 fn shipped_scenes_are_valid() {
     let mut scenes = scenes_in(&root().join("scenes"));
@@ -600,11 +612,11 @@ fn green_kubo_integrates_an_equilibrium_run_and_refuses_what_it_cannot() {
     assert_ok(&ran);
     let stdout = String::from_utf8_lossy(&ran.stdout);
     assert!(stdout.contains("eta_B / eta = "), "{stdout}");
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("green_kubo.json")).unwrap())
-            .unwrap();
-    let eta_b = json["eta_brownian_over_eta"].as_f64().unwrap();
-    assert!(eta_b > 0.0 && eta_b.is_finite(), "{json}");
+    // The result reads back as the type that wrote it, beside the scene it ran.
+    let result = rheometry::GreenKuboResult::read(&out).unwrap();
+    let eta_b = result.eta_brownian_over_eta;
+    assert!(eta_b > 0.0 && eta_b.is_finite(), "{result:?}");
+    assert!(result.code_version.starts_with("0.1.0+") && out.join("scene.toml").exists());
     let (header, rows) = read_csv(&out.join("green_kubo.csv"));
     assert_eq!(header[3], "running_eta_over_eta");
     assert_eq!(rows[0][3].parse::<f64>().unwrap(), 0.0);
@@ -642,6 +654,9 @@ impl FlowCurvesRun {
         let out = dir.join("report");
         assert_ok(&flow_curves(grid, &runs, &out));
         let (header, rows) = read_csv(&out.join("flow_curves.csv"));
+        // The table reads back as the type that wrote it.
+        let typed = rheometry::FlowCurveRow::read_all(&out.join("flow_curves.csv")).unwrap();
+        assert_eq!(typed.len(), rows.len());
         FlowCurvesRun {
             dir,
             out,
@@ -719,13 +734,28 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
     for (k, phi) in phis.iter().enumerate() {
         let gk = run.dir.join(format!("gk{k}"));
         std::fs::create_dir_all(&gk).unwrap();
+        // A result as `green-kubo` writes it, by the type that writes it.
+        let result = rheometry::GreenKuboResult {
+            scene: format!("eq{k}"),
+            n_particles: 100,
+            phi_actual: *phi,
+            kt: 0.1,
+            tau_b: 10.0,
+            eta_brownian_over_eta: 1.0,
+            eta_brownian_over_eta_se: 0.1,
+            extrapolated_eta_brownian_over_eta: 2.0,
+            extrapolated_eta_brownian_over_eta_se: 0.2,
+            relaxation_tau_b: 0.5,
+            blocks: 10,
+            warmup_tau_b: 5.0,
+            span_tau_b: 100.0,
+            max_lag_tau_b: 5.0,
+            every_steps: 5,
+            code_version: "test".into(),
+        };
         std::fs::write(
             gk.join("green_kubo.json"),
-            format!(
-                "{{\"phi_actual\": {phi}, \"eta_brownian_over_eta\": 1.0, \
-                 \"eta_brownian_over_eta_se\": 0.1, \"extrapolated_eta_brownian_over_eta\": 2.0, \
-                 \"extrapolated_eta_brownian_over_eta_se\": 0.2}}"
-            ),
+            serde_json::to_string(&result).unwrap(),
         )
         .unwrap();
         args.extend(["--green-kubo".to_owned(), gk.to_str().unwrap().to_owned()]);
@@ -898,28 +928,29 @@ fn option_values_beyond_their_limits_are_refused() {
     assert!(!Path::new(out).exists(), "nothing written");
 }
 
-/// SIGTERM (a batch scheduler's time limit) stops a run with a checkpoint, as Ctrl-C does;
-/// a second `simulate` on the same `--out` is refused while the first runs; a resumed run
-/// that finishes removes its checkpoint, so a plain re-run calls it finished.
+/// SIGTERM (a batch scheduler's time limit) stops a run with a checkpoint, as Ctrl-C does,
+/// with the exit status of an interrupted run (75); a second `simulate` on the same `--out`
+/// is refused while the first runs; a resumed run that finishes keeps its final state, so
+/// that a plain re-run calls it finished and a longer run of its scene continues it.
 #[test]
-fn sigterm_checkpoints_a_run_held_by_its_lock_and_a_finished_resume_leaves_none() {
+fn sigterm_checkpoints_a_run_held_by_its_lock_and_a_finished_run_can_be_extended() {
     let dir = scratch("sigterm");
     std::fs::create_dir_all(&dir).unwrap();
     let scene = dir.join("long.toml");
     let text = std::fs::read_to_string(root().join("tests/scenes/good/tiny.toml")).unwrap();
     std::fs::write(&scene, text.replace("snapshots = 40", "snapshots = 2000")).unwrap();
     let out = dir.join("run");
-    let (scene, out_s) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let (scene_s, out_s) = (scene.to_str().unwrap(), out.to_str().unwrap());
     let first = Command::new(env!("CARGO_BIN_EXE_suspflow"))
-        .args(["simulate", scene, "--out", out_s])
+        .args(["simulate", scene_s, "--out", out_s])
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    while !out.join("simulate.lock").exists() {
+    while !out.join("run.lock").exists() {
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    let second = suspflow(&["simulate", scene, "--out", out_s, "--force"]);
+    let second = suspflow(&["simulate", scene_s, "--out", out_s, "--force"]);
     let stderr = String::from_utf8_lossy(&second.stderr);
     assert!(
         !second.status.success() && stderr.contains("is in use by another `suspflow simulate`"),
@@ -936,17 +967,101 @@ fn sigterm_checkpoints_a_run_held_by_its_lock_and_a_finished_resume_leaves_none(
     let stopped = first.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&stopped.stderr);
     assert!(
-        !stopped.status.success() && stderr.contains("continue with --resume"),
-        "{stderr}"
+        stopped.status.code() == Some(75) && stderr.contains("continue with --resume"),
+        "{:?}: {stderr}",
+        stopped.status
     );
     assert!(out.join("checkpoint.json").exists());
-    assert_ok(&suspflow(&["simulate", scene, "--out", out_s, "--resume"]));
-    assert!(out.join("profile.csv").exists() && !out.join("checkpoint.json").exists());
-    let rerun = suspflow(&["simulate", scene, "--out", out_s]);
+    assert_ok(&suspflow(&[
+        "simulate", scene_s, "--out", out_s, "--resume",
+    ]));
+    assert!(out.join("profile.csv").exists() && out.join("scene.toml").exists());
+    let rerun = suspflow(&["simulate", scene_s, "--out", out_s]);
     let stderr = String::from_utf8_lossy(&rerun.stderr);
     assert!(
         stderr.contains("(the result of an earlier run)"),
         "{stderr}"
+    );
+    // Twice the snapshots in twice the blocks: the finished run goes on.
+    let longer = text
+        .replace("snapshots = 40", "snapshots = 4000")
+        .replace("blocks = 4", "blocks = 8");
+    std::fs::write(&scene, longer).unwrap();
+    let extended = suspflow(&["simulate", scene_s, "--out", out_s, "--resume"]);
+    assert_ok(&extended);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["snapshots"], 4000);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Green-Kubo at rest has the lifecycle of every run: SIGTERM stops it with its checkpoint
+/// (exit status 75) and `--resume` finishes it with the uninterrupted run's numbers, bit
+/// for bit.
+#[test]
+fn green_kubo_resumes_bit_for_bit_after_sigterm() {
+    let dir = scratch("green-kubo-sigterm");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("eq.toml");
+    std::fs::write(
+        &scene,
+        "box = { l_x = 10.0, l_y = 10.0, l_z = 10.0 }\n\
+         particles = { phi = 0.3, rho = 0.5 }\nfluid = { kT = 0.2 }\n",
+    )
+    .unwrap();
+    let args = |out: &Path| {
+        vec![
+            "green-kubo".to_string(),
+            scene.to_str().unwrap().to_string(),
+            "--out".into(),
+            out.to_str().unwrap().to_string(),
+            "--warmup".into(),
+            "1".into(),
+            "--span".into(),
+            "400".into(),
+            "--max-lag".into(),
+            "0.5".into(),
+            "--threads".into(),
+            "1".into(),
+        ]
+    };
+    let whole = dir.join("whole");
+    let a = args(&whole);
+    assert_ok(&suspflow(&a.iter().map(String::as_str).collect::<Vec<_>>()));
+    let stopped = dir.join("stopped");
+    let child = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+        .args(args(&stopped))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    while !stopped.join("run.lock").exists() {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(800));
+    assert!(Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let ended = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&ended.stderr);
+    assert!(
+        ended.status.code() == Some(75) && stderr.contains("continue with --resume"),
+        "{:?}: {stderr}",
+        ended.status
+    );
+    assert!(stopped.join("checkpoint.json").exists() && !stopped.join("green_kubo.json").exists());
+    let mut resume = args(&stopped);
+    resume.push("--resume".into());
+    assert_ok(&suspflow(
+        &resume.iter().map(String::as_str).collect::<Vec<_>>(),
+    ));
+    let read = |d: &Path| std::fs::read_to_string(d.join("green_kubo.csv")).unwrap();
+    assert_eq!(
+        read(&stopped),
+        read(&whole),
+        "the resumed correlation differs"
     );
     std::fs::remove_dir_all(&dir).ok();
 }

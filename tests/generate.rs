@@ -5,6 +5,7 @@
 mod common;
 
 use common::{csv_column, numbers, root, scratch, stderr, suspflow};
+use sim::run::batch::RunTableRow;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;
@@ -23,6 +24,13 @@ fn whole_tiny() -> &'static String {
         let out = scratch("whole").join("tiny.csv");
         let o = generate("tests/grids/tiny.toml", &out, &[]);
         assert!(o.status.success(), "{}", stderr(&o));
+        // The run table reads back as the type that wrote it: every run done, in grid order.
+        let table = RunTableRow::read_all(&out.with_extension("scenes.csv")).unwrap();
+        assert_eq!(table.len(), 4);
+        assert!(table
+            .iter()
+            .all(|r| r.status == "done" && r.steps.is_some()));
+        assert_eq!((table[2].phi, table[2].seed), (0.5, 3));
         std::fs::read_to_string(out).unwrap()
     })
 }

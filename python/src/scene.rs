@@ -81,7 +81,7 @@ impl Scene {
             "drag_critical": t.drag_critical,
             "lubrication_critical": t.lubrication_critical,
             "accuracy_limit": t.accuracy_limit,
-            "steps_per_strain": t.steps_per_strain(s),
+            "steps_per_strain": s.steps_per_strain(),
             "max_strain": r.max_strain,
             "snapshots": r.snapshots,
             "warnings": s.warnings,

@@ -1,5 +1,6 @@
-//! `simulate`: a scene to its steady-state profile, writing the files of `suspflow simulate`
-//! (profile.csv, summary.json, snapshot_sums.json, checkpoint.json, frames). The run goes on
+//! `simulate`: a scene to its steady-state profile in its run folder, as `suspflow simulate`
+//! runs it (`sim::RunFolder`: scene.toml, the lock, checkpoint.json, profile.csv, stress.csv,
+//! summary.json, snapshot_sums.json, frames). The run goes on
 //! a worker thread while the calling thread, without the GIL, waits for its progress and
 //! polls Python's signals: Ctrl-C (KeyboardInterrupt) stops the run within 256 steps, its
 //! checkpoint saved, and `resume=True` continues it.
@@ -9,8 +10,10 @@ use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sim::output::frame_writer::FrameWriter;
+use sim::output::result_files::{write_results, WRITTEN};
 use sim::output::snapshot_format::SnapshotFormat;
-use sim::run::{Phase, RunOptions};
+use sim::run::run_folder::{Ended, RunFolder};
+use sim::run::{Phase, RunOptions, SteadyRun};
 use sim::SimError;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -52,17 +55,18 @@ impl Report {
     }
 }
 
-/// Runs `scene` into the directory `out` (which must exist) on `threads` threads (0 = all
-/// cores), continuing `out/checkpoint.json` when `resume`; with `snapshot = N` a frame every N
-/// samples in `snapshot_format` (`xyz` or `lammps`). `progress(dict)` is called with each
-/// report. Returns the run summary (summary.json) as JSON text.
+/// Runs `scene` into the run folder `out` on `threads` threads (0 = all cores), continuing
+/// `out/checkpoint.json` (an interrupted run, or a finished one that the scene lengthens)
+/// unless `fresh` starts over; with `snapshot = N` a frame every N samples in
+/// `snapshot_format` (`xyz` or `lammps`). `progress(dict)` is called with each report.
+/// Returns the run summary (summary.json) as JSON text.
 #[pyfunction]
-#[pyo3(signature = (scene, out, threads = 0, resume = false, snapshot = None, snapshot_format = "xyz", progress = None))]
+#[pyo3(signature = (scene, out, threads = 0, fresh = true, snapshot = None, snapshot_format = "xyz", progress = None))]
 pub fn simulate(
     scene: &Bound<'_, Scene>,
     out: PathBuf,
     threads: usize,
-    resume: bool,
+    fresh: bool,
     snapshot: Option<u64>,
     snapshot_format: &str,
     progress: Option<PyObject>,
@@ -74,8 +78,16 @@ pub fn simulate(
     if snapshot == Some(0) {
         return Err(Error("snapshot must be at least 1 (a frame every N samples)".into()).into());
     }
-    let checkpoint = out.join("checkpoint.json");
-    let resuming = resume && checkpoint.exists();
+    let folder = RunFolder::new(&out);
+    let _lock = folder.lock("`suspflow.simulate`").map_err(Error::from)?;
+    if fresh {
+        folder.start_over(&WRITTEN).map_err(Error::from)?;
+        folder.record_scene(&scene.file).map_err(Error::from)?;
+    } else {
+        folder.prepare(&scene.file).map_err(Error::from)?;
+    }
+    let checkpoint = folder.checkpoint();
+    let resuming = checkpoint.exists();
     let mut frames = snapshot
         .map(|every| FrameWriter::open(&out, format, every, resuming))
         .transpose()
@@ -86,11 +98,9 @@ pub fn simulate(
         .map_err(|e| Error::context("starting the thread pool", e))?;
     INTERRUPTED.store(false, Ordering::SeqCst);
     let opts = RunOptions {
-        checkpoint: Some(checkpoint.clone()),
-        resume,
         interrupt: Some(&INTERRUPTED),
         code_version: crate::CODE_VERSION,
-        packing_progress: None,
+        ..RunOptions::default()
     };
     let (send, receive) = mpsc::channel::<Report>();
     // Shared with the GIL-free wait, which must be `Send`.
@@ -100,19 +110,25 @@ pub fn simulate(
         let worker = s.spawn(|| {
             let send = send;
             pool.install(|| {
-                sim::run::run(scene, &opts, &mut |p, sim| {
-                    let _ = send.send(Report {
-                        equilibrating: p.phase == Phase::Equilibrating,
-                        strain: p.strain,
-                        max_strain: p.max_strain,
-                        snapshots: p.snapshots,
-                        snapshots_target: p.snapshots_target,
-                        step: p.step,
-                    });
-                    if let Some(frames) = frames.as_mut() {
-                        frames.after_sample(p.samples, sim);
-                    }
-                })
+                folder.run(
+                    scene,
+                    &mut SteadyRun::new(scene, crate::CODE_VERSION),
+                    opts,
+                    &mut |p, sim| {
+                        let _ = send.send(Report {
+                            equilibrating: p.phase == Phase::Equilibrating,
+                            strain: p.strain,
+                            max_strain: p.max_strain,
+                            snapshots: p.snapshots,
+                            snapshots_target: p.snapshots_target,
+                            step: p.step,
+                        });
+                        if let Some(frames) = frames.as_mut() {
+                            frames.after_sample(p.samples, sim);
+                        }
+                    },
+                    |dir, outcome| write_results(dir, scene, outcome),
+                )
             })
         });
         loop {
@@ -145,8 +161,8 @@ pub fn simulate(
     if let Some(frames) = frames {
         frames.finish().map_err(Error::from)?;
     }
-    let outcome = match (outcome, python_error) {
-        (Err(SimError::Interrupted { step }), Some(e))
+    let ended = match (outcome, python_error) {
+        (Ok(Ended::Interrupted { step }), Some(e))
             if e.is_instance_of::<PyKeyboardInterrupt>(py) =>
         {
             return Err(PyKeyboardInterrupt::new_err(format!(
@@ -157,6 +173,16 @@ pub fn simulate(
         (_, Some(e)) => return Err(e),
         (outcome, None) => outcome.map_err(Error::from)?,
     };
-    sim::output::result_files::write_results(&out, scene, &outcome).map_err(Error::from)?;
-    Ok(serde_json::to_string(&outcome.summary).expect("a run summary serialises"))
+    match ended {
+        Ended::Finished(outcome) => {
+            Ok(serde_json::to_string(&outcome.summary).expect("a run summary serialises"))
+        }
+        Ended::Interrupted { step } => Err(Error(format!(
+            "interrupted at step {step}; state saved in {}",
+            checkpoint.display()
+        ))
+        .into()),
+        Ended::InterruptedPacking => Err(Error(SimError::InterruptedPacking.to_string()).into()),
+        Ended::Failed(reason) => Err(Error(reason).into()),
+    }
 }

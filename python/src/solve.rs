@@ -11,7 +11,7 @@ use std::path::PathBuf;
 #[pyclass(module = "suspflow._native", frozen, get_all)]
 pub struct Solution {
     /// (name, values) in the column order of `suspflow solve`'s profile.csv (numbers only,
-    /// `solver::SolvedProfile::numeric_columns`; the scene id and profile columns are added
+    /// `solver::SolvedProfile::columns`; the scene id and profile columns are added
     /// by the Python side), the bands' `_lower` and `_upper` columns included.
     pub columns: Vec<(String, Vec<f64>)>,
     /// Whether each bin lies within the closure's training domain (`in_domain`).
@@ -89,9 +89,15 @@ pub fn solve(
         }
         Bands::Missing(why) => (None, None, Some(why)),
     };
-    let solved = SolvedProfile::of_scene(scene, &problem, s, &checks, profile_bands.as_ref());
+    let solved = SolvedProfile {
+        scene,
+        problem: &problem,
+        solution: s,
+        checks: &checks,
+        bands: profile_bands.as_ref(),
+    };
     Ok(Solution {
-        columns: solved.numeric_columns(),
+        columns: solved.columns(),
         in_domain: checks.iter().map(|c| c.inside()).collect(),
         domain_distance: checks.iter().map(|c| c.distance).collect(),
         iterations: s.iterations,

@@ -29,6 +29,9 @@ import pandas as pd
 from . import _native
 from ._native import CODE_VERSION, Scene, SuspflowError
 
+__version__ = CODE_VERSION
+"""The package's version and the commit it was built from (as ``suspflow --version``)."""
+
 __all__ = [
     "CODE_VERSION",
     "Scene",
@@ -93,14 +96,17 @@ def simulate(
     progress: Union[bool, Callable[[Dict[str, Any]], None]] = True,
 ) -> Dict[str, Any]:
     """Runs a scene to its steady-state profile and writes the files of ``suspflow simulate``
-    into ``out``: ``profile.csv`` (one row per bin), ``stress.csv`` (the stress parts per
-    bin), ``summary.json``, ``snapshot_sums.json`` and ``checkpoint.json``; with ``snapshot=N`` a particle frame every N samples to
+    into the run folder ``out``: ``scene.toml``, ``profile.csv`` (one row per bin),
+    ``stress.csv`` (the stress parts per bin), ``summary.json``, ``snapshot_sums.json`` and
+    ``checkpoint.json`` (the state to continue from); with ``snapshot=N`` a particle frame every N samples to
     ``frames.xyz`` (``snapshot_format="xyz"``, extended XYZ) or ``frames.lammpstrj``
     (``"lammps"``, LAMMPS text dump), positions in a, velocities in a/time, spins in 1/time.
 
     ``threads``: 0 = all cores (a run is bit-identical to another with the same count).
-    ``resume`` continues ``out/checkpoint.json``; an ``out`` holding an earlier run is refused
-    unless ``resume`` or ``force`` (start over). ``progress``: True writes a status line to
+    ``resume`` continues ``out/checkpoint.json``: an interrupted run, or a finished one whose
+    scene now asks for more (``run.snapshots`` with ``run.blocks`` in proportion, or a larger
+    ``run.max_strain``); an ``out`` holding an earlier run is refused unless ``resume`` or
+    ``force`` (start over). The folder is locked while the run writes it. ``progress``: True writes a status line to
     standard error, False nothing, a callable receives a dict (``phase``, ``strain``,
     ``max_strain``, ``snapshots``, ``snapshots_target``, ``step``) after every sample.
 
@@ -115,19 +121,23 @@ def simulate(
     if resume and force:
         raise SuspflowError("resume and force exclude each other")
     if not resume and not force:
-        for name, what in [
-            ("checkpoint.json", "the checkpoint of an unfinished run; resume=True continues it"),
-            ("profile.csv", "the result of an earlier run"),
-        ]:
-            if (out / name).exists():
-                raise SuspflowError(
-                    f"{out / name} holds {what}; force=True starts over, or choose another out"
-                )
+        # The run folder's protocol (sim::RunFolder): a finished run has its results (and
+        # keeps its final state for a longer run), an unfinished one only its checkpoint.
+        finished = (out / "profile.csv").exists() and (out / "summary.json").exists()
+        name, what = (
+            ("profile.csv", "the result of an earlier run; resume=True extends it to a longer scene")
+            if finished
+            else ("checkpoint.json", "the checkpoint of an unfinished run; resume=True continues it")
+        )
+        if (out / name).exists():
+            raise SuspflowError(
+                f"{out / name} holds {what}; force=True starts over, or choose another out"
+            )
     out.mkdir(parents=True, exist_ok=True)
     callback = _progress_line if progress is True else (progress or None)
     try:
         summary = _native.simulate(
-            scene, os.fspath(out), threads, resume, snapshot, snapshot_format, callback
+            scene, os.fspath(out), threads, not resume, snapshot, snapshot_format, callback
         )
     finally:
         if progress is True:

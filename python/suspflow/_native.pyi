@@ -53,12 +53,12 @@ def simulate(
     scene: Scene,
     out: str,
     threads: int = 0,
-    resume: bool = False,
+    fresh: bool = True,
     snapshot: Optional[int] = None,
     snapshot_format: str = "xyz",
     progress: Optional[Callable[[Dict[str, object]], None]] = None,
 ) -> str:
-    """Runs `scene` into the existing directory `out`; returns summary.json's text."""
+    """Runs `scene` into the run folder `out` (continuing its checkpoint unless `fresh`); returns summary.json's text."""
 
 def predict(dir: str, mapping: str, table: Table, level: float = 0.9) -> Predictions: ...
 def validate(

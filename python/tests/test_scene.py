@@ -41,3 +41,9 @@ def test_check_states_what_the_command_prints(root, run_suspflow):
     # The command prints dt with 4 significant digits.
     assert f"{c['dt']:.3e}" == f"{dt:.3e}"
     assert c["integrator"] in printed and c["dt_limit"] in printed
+
+
+def test_the_version_is_the_commands(run_suspflow):
+    """`suspflow.__version__` is the commit stamp the command line prints and results record."""
+    printed = run_suspflow("--version").split()[-1]
+    assert suspflow.__version__ == suspflow.CODE_VERSION == printed

@@ -1,11 +1,18 @@
 //! The schema's one error type.
 
-/// What reading a table can fail on.
+/// What reading a table, or writing a file, can fail on.
 #[derive(Debug, thiserror::Error)]
 pub enum SchemaError {
     /// The file could not be read.
     #[error("reading {path}")]
     Read {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file could not be written.
+    #[error("writing {path}: {source}")]
+    Write {
         path: String,
         #[source]
         source: std::io::Error,

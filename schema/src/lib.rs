@@ -2,8 +2,10 @@
 //! learns from them and the commands that read them take the column names and their order
 //! from here ([`columns`]) and index the observables by [`Observable`]; a per-run table is
 //! read and checked by one reader ([`RunTable`]), on which merging and ensembles build;
-//! tables are identified by their [`Fingerprint`].
+//! tables are identified by their [`Fingerprint`]; every result file is written whole by
+//! one writer ([`write_atomic`]).
 
+pub mod atomic_write;
 pub mod columns;
 mod error;
 pub mod excerpt;
@@ -13,6 +15,7 @@ pub mod run_rows;
 pub mod run_table;
 pub mod scene_name;
 
+pub use atomic_write::write_atomic;
 pub use error::{Result, SchemaError};
 pub use excerpt::excerpt;
 pub use fingerprint::Fingerprint;

@@ -46,9 +46,20 @@ pub enum SimError {
     /// (The command says how to go on: remove it, or start over.)
     #[error("checkpoint {path}: {message}")]
     CheckpointUnusable { path: String, message: String },
+    /// Another process holds the lock of an output.
+    #[error("{what} is in use by another {holder} (process {owner}, lock {lock}); wait for it to finish, or stop it (its work is kept) and run again")]
+    Locked {
+        what: String,
+        holder: String,
+        owner: String,
+        lock: String,
+    },
     /// Writing results failed.
     #[error("writing {path}: {message}")]
     Output { path: String, message: String },
+    /// A dataset table could not be read or combined.
+    #[error(transparent)]
+    Table(#[from] schema::SchemaError),
     /// A grid file is invalid or expands to an invalid scene.
     #[error("grid {0}")]
     Grid(String),

@@ -5,10 +5,10 @@ use sim::input::grid::Grid;
 use sim::input::scene::Scene;
 
 /// A sheared Brownian box wide enough for grains of radius 7 (three neighbour cells of
-/// 14.5 a along y), Pe_c = 1.
+/// 14.8 a along y: the lubrication taper reaches 0.7 a past contact), Pe_c = 1.
 const BASE: &str = r#"
 [scene]
-box = { l_x = 44.0, l_y = 44.0, l_z = 44.0 }
+box = { l_x = 46.0, l_y = 46.0, l_z = 46.0 }
 fluid = { shear_rate = 0.01, peclet = 1.0 }
 [scene.particles]
 rho = 0.1
@@ -40,7 +40,7 @@ fn adding_grains_at_fixed_liquid_volume_follows_the_thesis_protocol() {
         // at most half a particle's, so alpha by half a grain of each radius over the
         // solid volume (0.02 at alpha 0.1, with 7 grains in this box) and phi by half a
         // particle of each radius over the box.
-        let box_volume = 44.0f64.powi(3);
+        let box_volume = 46.0f64.powi(3);
         let volume = |r: f64| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
         let alpha_bound = 0.5 * (volume(5.0) + volume(7.0)) / (phi * box_volume);
         let phi_bound = [1.0, 1.4, 5.0, 7.0].map(volume).iter().sum::<f64>() / (2.0 * box_volume);
@@ -126,7 +126,7 @@ fn contradictions_and_gaps_are_refused_naming_the_field() {
     let scene = |particles: &str| {
         Scene::from_toml(
             &format!(
-                "[box]\nl_x = 44.0\nl_y = 44.0\nl_z = 44.0\n[fluid]\nshear_rate = 0.01\n\
+                "[box]\nl_x = 46.0\nl_y = 46.0\nl_z = 46.0\n[fluid]\nshear_rate = 0.01\n\
                  [particles]\n{particles}\n"
             ),
             false,

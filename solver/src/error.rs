@@ -59,6 +59,10 @@ pub enum SolverError {
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
 
+    /// A solution's files could not be written or read.
+    #[error("{path}: {message}")]
+    File { path: String, message: String },
+
     /// A closure or a dataset failed in the surrogate crate.
     #[error(transparent)]
     Surrogate(#[from] surrogate::SurrogateError),

@@ -8,7 +8,8 @@
 //! the bin centres and the drag coefficient of the particle mix); [`ProfileProblem::solve`]
 //! takes a [`Closure`] (a [`LearnedClosure`], a [`NonlocalClosure`] with its
 //! [`ThetaBalance`] fitted by [`ThetaBalance::fit`], or a `LocalRheology`, fitted on a dataset
-//! by [`fit_local_rheology`]) and returns a [`ProfileSolution`].
+//! by [`fit_local_rheology`]) and returns a [`ProfileSolution`], which a [`SolvedProfile`]
+//! writes as `profile.csv` beside its [`SolveSummary`].
 
 pub mod band_calibration;
 pub mod bands;

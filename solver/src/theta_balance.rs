@@ -18,7 +18,7 @@
 //! searches).
 
 use schema::columns as col;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use surrogate::rheology::brent::minimise;
 use surrogate::Dataset;
 
@@ -30,7 +30,7 @@ const LENGTH_RANGE: (f64, f64) = (0.0, 10.0);
 const EXPONENT_RANGE: (f64, f64) = (0.05, 2.0);
 
 /// The fitted balance `l^2 Theta'' = Theta - c J^beta`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ThetaBalance {
     /// `l`, the diffusion length of Theta (units a).
     pub length: f64,
@@ -41,7 +41,7 @@ pub struct ThetaBalance {
 }
 
 /// A fitted balance and how well it reproduces the data it was fitted on.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ThetaBalanceFit {
     pub balance: ThetaBalance,
     /// Root-mean-square relative error of Theta over the fitted bins.

@@ -58,7 +58,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     )?;
     let table = ranges_table(&datasets, &names)?;
     let markdown = args.out.join("coverage.md");
-    sim::output::atomic_write::write_atomic(&markdown, table.as_bytes())?;
+    schema::write_atomic(&markdown, table.as_bytes())?;
     print!("{table}");
     println!("\n{}\n{}", figure.display(), markdown.display());
     Ok(())

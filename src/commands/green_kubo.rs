@@ -3,20 +3,21 @@
 //! initial packing, samples the structural Brownian shear stress, and writes the
 //! correlation and its running integral (`green_kubo.csv`) and the viscosity
 //! (`green_kubo.json`), in units of the fluid viscosity as a part of `eta_r`.
-use anyhow::Context;
+use crate::exit_status::Stop;
+use rheometry::green_kubo::{run_in_folder, WRITTEN};
 use sim::input::scene::Scene;
-use sim::output::atomic_write::write_atomic;
-use sim::sampling::green_kubo::{equilibrium_viscosity, GreenKuboRun};
-use std::fmt::Write as _;
-use std::io::Write as _;
+use sim::run::green_kubo::{GreenKuboJob, GreenKuboRun};
+use sim::run::run_folder::{Ended, RunFolder, RunStatus};
+use sim::run::RunOptions;
+use sim::SimError;
 use std::path::PathBuf;
-use surrogate::rheology::relaxation_fit::Relaxation;
 
 #[derive(clap::Args)]
 pub struct Args {
     /// Brownian scene without flow (fluid.kT > 0, no shear_rate, profile or peclet).
     scene: PathBuf,
-    /// Output directory: green_kubo.csv and green_kubo.json.
+    /// Output directory: scene.toml, green_kubo.csv, green_kubo.json and checkpoint.json
+    /// (the state to continue from).
     #[arg(long)]
     out: PathBuf,
     /// Warm-up before sampling, in Brownian times tau_B.
@@ -34,9 +35,16 @@ pub struct Args {
     /// Consecutive parts of the series for the standard error.
     #[arg(long, default_value_t = 10)]
     blocks: usize,
-    /// Replace the files of an earlier run in `--out`.
+    /// Continue from DIR/checkpoint.json: an interrupted run, or a finished one to a longer
+    /// --span (the same --warmup and --every).
     #[arg(long)]
+    resume: bool,
+    /// Start over in a DIR that holds an earlier run (its checkpoint and results are replaced).
+    #[arg(long, conflicts_with = "resume")]
     force: bool,
+    /// Threads (0 = all cores).
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::threads::count)]
+    threads: usize,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -50,77 +58,86 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     let scene = Scene::from_path(&args.scene, false)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
     crate::output_guard::out_dir(&args.out)?;
-    let written = ["green_kubo.csv", "green_kubo.json"].map(|f| args.out.join(f));
-    crate::output_guard::refuse_any_unless_force(
-        &written,
-        args.force,
-        "an earlier Green-Kubo result",
-        "choose another --out",
-    )?;
-    let run = GreenKuboRun {
+    let folder = RunFolder::new(&args.out);
+    if !args.resume {
+        let (file, what) = if folder.status(&WRITTEN) == RunStatus::Done {
+            (
+                args.out.join(rheometry::green_kubo::JSON),
+                "an earlier Green-Kubo result",
+            )
+        } else {
+            (
+                folder.checkpoint(),
+                "the checkpoint of an unfinished Green-Kubo run; --resume continues it",
+            )
+        };
+        crate::output_guard::refuse_unless_force(&file, args.force, what, "choose another --out")?;
+    }
+    let plan = GreenKuboRun {
         warmup_tau_b: args.warmup,
         span_tau_b: args.span,
         every: args.every,
         max_lag_tau_b: args.max_lag,
         blocks: args.blocks,
     };
-    let mut last = 0;
-    let gk = equilibrium_viscosity(&scene, run, &mut |f| {
-        let percent = (100.0 * f) as u32;
-        if percent >= last + 10 {
-            last = percent;
-            eprint!("\rsampling: {percent} %");
-            let _ = std::io::stderr().flush();
-        }
-    })?;
-    eprintln!();
-    let eta = scene.file.fluid.eta;
-    let tau_b = scene.thermal.map_or(f64::NAN, |t| t.tau_b);
-    let relaxation = Relaxation::fit(&gk.lags, &gk.running)?;
-    // The limit's error: the integral's, scaled by limit / integral (the blocks are not
-    // fitted one by one).
-    let limit_se = gk.viscosity_se * (relaxation.limit / gk.viscosity).abs();
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    let mut csv = String::from("lag,lag_tau_b,correlation,running_eta_over_eta\n");
-    for ((lag, c), r) in gk.lags.iter().zip(&gk.correlation).zip(&gk.running) {
-        let _ = writeln!(csv, "{lag},{},{c},{}", lag / tau_b, r / eta);
+    // Checked before the folder is made: a run that cannot give a result does not start.
+    sim::run::Job::check(&GreenKuboJob::new(&scene, plan))?;
+    scene.check_fits_here()?;
+    let _lock = folder.lock("`suspflow green-kubo`")?;
+    if args.resume {
+        folder.prepare(&scene.file)?;
+    } else {
+        // Nothing of an earlier run is there, or --force replaces it.
+        folder.start_over(&WRITTEN)?;
+        folder.record_scene(&scene.file)?;
     }
-    write_atomic(&written[0], csv.as_bytes())?;
-    let json = serde_json::json!({
-        "scene": scene.file.name,
-        "n_particles": scene.n_particles(),
-        "phi_actual": scene.phi_actual,
-        "kT": scene.file.fluid.kt,
-        "tau_b": tau_b,
-        "eta_brownian_over_eta": gk.viscosity / eta,
-        "eta_brownian_over_eta_se": gk.viscosity_se / eta,
-        "extrapolated_eta_brownian_over_eta": relaxation.limit / eta,
-        "extrapolated_eta_brownian_over_eta_se": limit_se / eta,
-        "relaxation_tau_b": relaxation.time / tau_b,
-        "blocks": gk.blocks,
-        "warmup_tau_b": args.warmup,
-        "span_tau_b": args.span,
-        "max_lag_tau_b": args.max_lag,
-        "every_steps": args.every,
-        "code_version": crate::CODE_VERSION,
-    });
-    write_atomic(&written[1], serde_json::to_string_pretty(&json)?.as_bytes())?;
+    crate::interrupt::install()?;
+    let bar = crate::progress::bar()?;
+    let mut lines = crate::progress::lines();
+    let opts = RunOptions {
+        interrupt: Some(crate::interrupt::flag()),
+        code_version: crate::CODE_VERSION,
+        ..RunOptions::default()
+    };
+    let ended = crate::threads::with_threads(args.threads, || {
+        run_in_folder(&folder, &scene, plan, opts, &mut |p, _| {
+            crate::progress::show(&bar, &mut lines, p, "")
+        })
+    })??;
+    bar.finish_and_clear();
+    let g = match ended {
+        Ended::Finished(g) => g,
+        Ended::Interrupted { step } => {
+            return Err(Stop::Interrupted(format!(
+                "interrupted at step {step}; state saved in {}; continue with --resume",
+                folder.checkpoint().display()
+            ))
+            .into())
+        }
+        Ended::InterruptedPacking => {
+            return Err(Stop::Interrupted(SimError::InterruptedPacking.to_string()).into())
+        }
+        Ended::Failed(reason) => return Err(Stop::Failed(reason).into()),
+    };
+    debug_assert_eq!(folder.status(&WRITTEN), RunStatus::Done);
     println!(
         "Green-Kubo Brownian viscosity of {} (N = {}, phi = {:.4}): eta_B / eta = {:.3} +- {:.3} \
          (integral to {} tau_B over {} tau_B); extrapolated as eta_inf (1 - exp(-s/tau)): \
          {:.3} +- {:.3}, tau = {:.2} tau_B",
-        scene.file.name,
-        scene.n_particles(),
-        scene.phi_actual,
-        gk.viscosity / eta,
-        gk.viscosity_se / eta,
-        args.max_lag,
-        args.span,
-        relaxation.limit / eta,
-        limit_se / eta,
-        relaxation.time / tau_b
+        g.scene,
+        g.n_particles,
+        g.phi_actual,
+        g.eta_brownian_over_eta,
+        g.eta_brownian_over_eta_se,
+        g.max_lag_tau_b,
+        g.span_tau_b,
+        g.extrapolated_eta_brownian_over_eta,
+        g.extrapolated_eta_brownian_over_eta_se,
+        g.relaxation_tau_b
     );
     eprintln!("wrote {}", args.out.display());
     Ok(())

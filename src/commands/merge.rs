@@ -50,7 +50,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .has_replicas()
         .then(|| ensemble_table::build(&args.out, &merged))
         .transpose()?;
-    sim::output::atomic_write::write_atomic(&args.out, text.as_bytes())?;
+    schema::write_atomic(&args.out, text.as_bytes())?;
     println!(
         "{}: {} rows from {} runs of {} scenes in {} files",
         args.out.display(),

@@ -164,7 +164,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         started.elapsed().as_secs_f64()
     );
     let path = dir.join("report.md");
-    sim::output::atomic_write::write_atomic(&path, md.as_bytes())?;
+    schema::write_atomic(&path, md.as_bytes())?;
     println!("{}", path.display());
     Ok(())
 }

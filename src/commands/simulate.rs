@@ -1,26 +1,28 @@
 //! `suspflow simulate SCENE.toml --out DIR`: one scene to its steady-state profile.
-use anyhow::Context;
+use crate::exit_status::Stop;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
-use indicatif::{ProgressBar, ProgressStyle};
 use sim::input::run_cost::RunCost;
 use sim::input::scene::Scene;
 use sim::output::frame_writer::FrameWriter;
+use sim::output::result_files::{write_results, RESULTS, WRITTEN};
 use sim::output::snapshot_format::SnapshotFormat;
-use sim::run::{Phase, RunOptions};
+use sim::run::run_folder::{Ended, RunFolder, RunStatus};
+use sim::run::{RunOptions, SteadyRun};
 use sim::SimError;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 #[derive(clap::Args)]
 pub struct Args {
     /// Scene file (TOML, see README).
     scene: PathBuf,
-    /// Output directory: profile.csv, summary.json, checkpoint.json (not needed with --check).
+    /// Output directory: scene.toml, profile.csv, stress.csv, summary.json,
+    /// snapshot_sums.json and checkpoint.json (the state to continue from; not needed with
+    /// --check).
     #[arg(long, required_unless_present = "check")]
     out: Option<PathBuf>,
-    /// Continue from DIR/checkpoint.json if it exists.
+    /// Continue from DIR/checkpoint.json if it exists: an interrupted run, or a finished one
+    /// whose scene now asks for more (run.snapshots with run.blocks in proportion, or a
+    /// larger run.max_strain after running out of it).
     #[arg(long)]
     resume: bool,
     /// Start over in a DIR that holds an earlier run (its checkpoint and results are replaced).
@@ -66,36 +68,40 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .as_ref()
         .expect("clap requires --out without --check");
     crate::output_guard::out_dir(out)?;
-    let checkpoint = out.join("checkpoint.json");
-    let resuming = args.resume && checkpoint.exists();
+    let folder = RunFolder::new(out);
     if !args.resume {
-        for (file, what) in [
+        let (file, what) = if folder.status(&RESULTS) == RunStatus::Done {
+            (folder.profile_csv(), "the result of an earlier run")
+        } else {
             (
-                &checkpoint,
+                folder.checkpoint(),
                 "the checkpoint of an unfinished run; --resume continues it",
-            ),
-            (&out.join("profile.csv"), "the result of an earlier run"),
-        ] {
-            crate::output_guard::refuse_unless_force(
-                file,
-                args.force,
-                what,
-                "choose another --out",
-            )?;
-        }
+            )
+        };
+        crate::output_guard::refuse_unless_force(&file, args.force, what, "choose another --out")?;
     }
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    let _lock = crate::file_lock::FileLock::acquire(
-        &out.join("simulate.lock"),
-        &out.display().to_string(),
-        "simulate",
-    )?;
-    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
-        .context("installing the Ctrl-C handler")?;
-    let bar = ProgressBar::new(1000);
-    bar.set_style(ProgressStyle::with_template(
-        "{spinner} [{elapsed_precise}] {bar:30} {msg} (ETA {eta})",
-    )?);
+    let mut job = SteadyRun::new(&scene, crate::CODE_VERSION);
+    // Checked before the folder is touched: a run that cannot start leaves it as it was.
+    sim::run::Job::check(&job)?;
+    scene.check_fits_here()?;
+    let _lock = folder.lock("`suspflow simulate`")?;
+    if args.resume {
+        folder.prepare(&scene.file)?;
+    } else {
+        // Nothing of an earlier run is there, or --force replaces it.
+        folder.start_over(&WRITTEN)?;
+        folder.record_scene(&scene.file)?;
+    }
+    if folder.status(&RESULTS) == RunStatus::Done && folder.records_exactly(&scene.file)? {
+        println!(
+            "{} holds the finished run of this scene: nothing to do (a longer run of it, \
+             more run.snapshots or a larger run.max_strain, continues it with --resume)",
+            out.display()
+        );
+        return Ok(());
+    }
+    crate::interrupt::install()?;
+    let bar = crate::progress::bar()?;
     let n = scene.n_particles();
     let packing = |overlapping: usize| {
         bar.set_message(format!(
@@ -103,65 +109,53 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ));
     };
     let opts = RunOptions {
-        checkpoint: Some(checkpoint.clone()),
-        resume: args.resume,
-        interrupt: Some(&INTERRUPTED),
+        interrupt: Some(crate::interrupt::flag()),
         code_version: crate::CODE_VERSION,
         packing_progress: Some(&packing),
+        ..RunOptions::default()
     };
     // A resumed run continues the frames of the run it resumes.
+    let resuming = folder.checkpoint().exists();
     let mut frames = args
         .snapshot
         .map(|every| FrameWriter::open(out, args.snapshot_format, every, resuming))
         .transpose()?;
-    let outcome = crate::threads::with_threads(args.threads, || {
-        sim::run::run(&scene, &opts, &mut |p, sim| {
-            match p.phase {
-                Phase::Equilibrating => {
-                    bar.set_position((1000.0 * p.strain / p.max_strain).min(1000.0) as u64);
-                    bar.set_message(format!(
-                        "equilibrating: strain {:.2} of budget {:.1}",
-                        p.strain, p.max_strain
-                    ));
+    let mut lines = crate::progress::lines();
+    let ended = crate::threads::with_threads(args.threads, || {
+        folder.run(
+            &scene,
+            &mut job,
+            opts,
+            &mut |p, sim| {
+                crate::progress::show(&bar, &mut lines, p, "");
+                if let Some(frames) = frames.as_mut() {
+                    frames.after_sample(p.samples, sim);
                 }
-                Phase::Averaging => {
-                    bar.set_position((1000 * p.snapshots / p.snapshots_target.max(1)) as u64);
-                    bar.set_message(format!(
-                        "averaging: snapshot {} / {}",
-                        p.snapshots, p.snapshots_target
-                    ));
-                }
-            }
-            if let Some(frames) = frames.as_mut() {
-                frames.after_sample(p.samples, sim);
-            }
-        })
-    })?;
+            },
+            |dir, outcome| write_results(dir, &scene, outcome),
+        )
+    })??;
     bar.finish_and_clear();
     if let Some(frames) = frames {
         frames.finish()?;
     }
-    let outcome = match outcome {
-        Err(SimError::Interrupted { step }) => {
-            anyhow::bail!(
+    let outcome = match ended {
+        Ended::Finished(outcome) => outcome,
+        Ended::Interrupted { step } => {
+            return Err(Stop::Interrupted(format!(
                 "interrupted at step {step}; state saved in {}; continue with --resume",
-                checkpoint.display()
-            )
+                folder.checkpoint().display()
+            ))
+            .into())
         }
-        Err(e @ SimError::CheckpointUnusable { .. }) => {
-            anyhow::bail!("{e}; remove it or drop --resume")
+        Ended::InterruptedPacking => {
+            return Err(Stop::Interrupted(SimError::InterruptedPacking.to_string()).into())
         }
-        other => other?,
+        Ended::Failed(reason) => return Err(Stop::Failed(reason).into()),
     };
-    sim::output::result_files::write_results(out, &scene, &outcome)?;
-    // The run is finished: its checkpoint would make a re-run call it unfinished.
-    if checkpoint.exists() {
-        std::fs::remove_file(&checkpoint)
-            .with_context(|| format!("removing the finished run's {}", checkpoint.display()))?;
-    }
     let s = &outcome.summary;
-    println!("profile: {}", out.join("profile.csv").display());
-    println!("summary: {}", out.join("summary.json").display());
+    println!("profile: {}", folder.profile_csv().display());
+    println!("summary: {}", folder.summary_json().display());
     println!(
         "N = {}, dt = {:.3e} ({}), steps = {}, steady at strain {:.2}, wall {:.1} s, {:.3e} particle-steps/s",
         s.n_particles, s.dt, s.dt_limit, s.steps, s.strain_to_steady, s.wall_s, s.particle_steps_per_s
@@ -199,10 +193,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// Derived quantities of a valid scene.
 fn print_check(scene: &Scene) -> anyhow::Result<()> {
     sim::input::scene_limits::check_driven(&scene.file)?;
-    sim::input::memory_estimate::check_fits_here(scene)?;
+    scene.check_fits_here()?;
     let t = scene.timestep;
     let r = &scene.file.run;
-    let cost = RunCost::new(scene);
+    let cost = scene.cost();
     println!("scene `{}` is valid", scene.file.name);
     println!(
         "particles: {} (species counts {:?}), phi = {:.4}",
@@ -239,9 +233,15 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
         );
     }
     println!(
-        "{} integrator: dt = {:.3e} set by {} (critical steps: contact {:.3e}, drag {:.3e}, lubrication {:.3e}; accuracy cap xi_min/gdot_max {:.3e})",
-        t.integrator, t.dt, t.limit, t.contact_critical, t.drag_critical, t.lubrication_critical, t.accuracy_limit
+        "{} integrator: dt = {:.3e} set by {} (critical steps: contact {:.3e}, friction {:.3e}, drag {:.3e}, lubrication {:.3e}; accuracy cap xi_min/gdot_max {:.3e})",
+        t.integrator, t.dt, t.limit, t.contact_critical, t.friction_critical, t.drag_critical, t.lubrication_critical, t.accuracy_limit
     );
+    if scene.thermal.is_some() && t.integrator == sim::input::integrator::Integrator::Implicit {
+        println!(
+            "Brownian limits (before run.dt_factor): diffusion {:.3e}, relaxation {:.3e}, cut-off relaxation {:.3e} (docs/physics.md section 11)",
+            t.diffusion_limit, t.relaxation_limit, t.cutoff_limit
+        );
+    }
     println!(
         "{:.0} steps per unit of the run's clock (strain, or tau_B without flow); at most {:.3e} particle-steps to the budget {} plus {:.3e} for {} snapshots",
         cost.steps_per_strain,
@@ -253,7 +253,7 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
     println!(
         "run time: at most about {} here (at {:.1e} particle-steps/s)",
         RunCost::describe(cost.seconds()),
-        sim::input::run_cost::PARTICLE_STEPS_PER_S
+        cost.rate
     );
     Ok(())
 }

@@ -2,12 +2,12 @@
 //! its forcing alone (u_inf(y), phi, box, particle sizes), by the momentum balance closed
 //! with the learned `dv` mapping, with the local rheology, or nonlocally with the learned
 //! `theta` mapping and the Theta balance (the `solver` crate).
-//! Writes `DIR/profile.csv` (the dataset's columns that the solve determines, and the bands
-//! `<u|phi_loc|mu>_lower`, `_upper` at `--level`, 90 % by default, calibrated on families the
-//! models did not see: `solver::bands`) and `DIR/summary.json` (which closure, the fitted
-//! Theta balance, the bands' margins), both written by `solver::SolvedProfile` and
-//! `solver::SolveSummary`; `--compare FILE.csv` puts a simulated profile of the same scene
-//! beside the solutions of every closure.
+//! Writes `DIR/profile.csv` (the dataset's columns that the solve determines, no standard
+//! errors, and the bands `<u|phi_loc|mu>_lower`, `_upper` at `--level`, 90 % by default,
+//! calibrated on families the models did not see: `solver::bands`), `DIR/summary.json`
+//! (which closure, the fitted Theta balance, the bands' margins) and `DIR/scene.toml`, all
+//! by `solver::SolvedProfile`; `--compare FILE.csv` puts a simulated profile of the same
+//! scene beside the solutions of every closure.
 use crate::output_guard;
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
 use anyhow::{bail, Context};
@@ -16,8 +16,8 @@ use schema::columns as col;
 use schema::Observable;
 use sim::input::scene::Scene;
 use solver::{
-    Bands, ClosureKind, Closures, ProfileBands, ProfileProblem, ProfileSolution, SolveSummary,
-    SolvedProfile, SolverError, BANDED,
+    Bands, ClosureKind, Closures, ProfileBands, ProfileProblem, ProfileSolution, SolvedProfile,
+    SolverError, BANDED,
 };
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -105,8 +105,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         })?;
     let bands = closures.bands(args.closure, &problem, &solution, args.level)?;
     let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
     let checks = closures.domain_checks(args.closure, scene.file.particles.phi, &solution)?;
     let (profile_bands, band_summary) = match bands {
         Bands::Calibrated(calibrated) => {
@@ -118,30 +116,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             (None, None)
         }
     };
-    let solved =
-        SolvedProfile::of_scene(&scene, &problem, &solution, &checks, profile_bands.as_ref());
-    std::fs::write(&profile_csv, solved.to_csv()?)
-        .with_context(|| format!("writing {}", profile_csv.display()))?;
-    let outside = checks.iter().filter(|c| !c.inside()).count();
-    let summary = SolveSummary {
-        scene: scene.file.name.clone(),
-        closure: args.closure.name(),
-        theta_balance: closures.theta_fit,
-        bins: problem.n_bins(),
-        iterations: solution.iterations,
-        continued: solution.continued,
-        residual: solution.residual,
-        pressure: solution.pressure,
-        bins_outside_domain: outside,
-        largest_domain_distance: checks.iter().map(|c| c.distance).fold(0.0, f64::max),
-        bands: band_summary,
-        wall_ms,
-        code_version: crate::CODE_VERSION.to_owned(),
+    let solved = SolvedProfile {
+        scene: &scene,
+        problem: &problem,
+        solution: &solution,
+        checks: &checks,
+        bands: profile_bands.as_ref(),
     };
-    std::fs::write(
-        args.out.join("summary.json"),
-        serde_json::to_string_pretty(&summary)?,
-    )?;
+    let summary = solved.summary(
+        args.closure,
+        closures.theta_fit,
+        band_summary,
+        wall_ms,
+        crate::CODE_VERSION,
+    );
+    solved.write(&args.out, &summary)?;
+    let outside = summary.bins_outside_domain;
     println!(
         "{}: {} closure, {} bins, {} Newton iterations{}, residual {:.1e}, P {:.4}, {:.1} ms -> {}",
         scene.file.name,

@@ -4,6 +4,7 @@
 
 pub mod chart_frame;
 pub mod data_and_laws;
+pub mod flow_curves;
 pub mod loglog;
 pub mod profile_panels;
 pub mod scatter_panels;

@@ -6,5 +6,6 @@
 
 pub mod convergence_report;
 pub mod descriptor_noise;
+pub mod flow_curves;
 pub mod side_by_side;
 pub mod surrogate_cost;

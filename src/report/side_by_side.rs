@@ -41,7 +41,7 @@ pub fn compare(runs: &[ConvergenceRun], models: &Path, dir: &Path) -> anyhow::Re
             schema::columns::header(),
             sim::output::result_files::profile_rows(&run.scene, &run.reference, &run.summary)
         );
-        sim::output::atomic_write::write_atomic(&path, csv.as_bytes())?;
+        schema::write_atomic(&path, csv.as_bytes())?;
         let data = Dataset::read_csv(&path)?;
         for mapping in &MAPPINGS {
             let model = Predictor::load(models, mapping.name).with_context(|| {

@@ -134,10 +134,7 @@ fn prediction_times(
             .filter(|l| l.split(',').next() == Some(id.as_str()))
             .collect();
         let path = dir.join(format!("validation_{id}.csv"));
-        sim::output::atomic_write::write_atomic(
-            &path,
-            format!("{header}\n{}\n", rows.join("\n")).as_bytes(),
-        )?;
+        schema::write_atomic(&path, format!("{header}\n{}\n", rows.join("\n")).as_bytes())?;
         let times: Vec<String> = MAPPINGS
             .iter()
             .map(|m| time_mapping(m, models, &path, 20).map(|t| format!("{:.2} ms", t.median_ms)))

@@ -7,7 +7,7 @@ use crate::forces::lubrication::{gap, LubricationCoefficients, PairResistance};
 use crate::forces::pair_load::PairLoad;
 use crate::forces::repulsion::Repulsion;
 use crate::input::flow_profile::FlowProfile;
-use crate::input::scene::SceneFile;
+use crate::input::scene_file::SceneFile;
 use crate::state::particles::Particles;
 use crate::state::periodic_box::PeriodicBox;
 use crate::state::Vec3;
@@ -78,7 +78,8 @@ impl ForceField {
                 let contact_distance = a_i + a_j;
                 let lubrication = f
                     .lubrication
-                    .then(|| LubricationCoefficients::new(a_i, a_j, eta, f.xi_min, f.xi_max));
+                    .then(|| LubricationCoefficients::new(a_i, a_j, eta, f.xi_min, f.xi_max))
+                    .map(|l| l.with_taper(f.taper_width()));
                 let mut reach = f.reach(contact_distance);
                 if kt > 0.0 {
                     reach = reach.max(brownian_shell::reach(a_i, a_j));

@@ -1,5 +1,7 @@
 //! Kim-Karrila near-field lubrication between two unequal spheres (thesis eqs 3.8-3.18,
-//! docs/physics.md section 4), regularised at the inner gap `xi_min` and cut off at `xi_max`.
+//! docs/physics.md section 4), regularised at the inner gap `xi_min` and cut off at
+//! `xi_max`, sharply (the seeds' model) or over a smooth taper beyond it (Brownian scenes,
+//! docs/physics.md section 11).
 use crate::forces::pair_load::PairLoad;
 use crate::state::Vec3;
 use std::f64::consts::PI;
@@ -27,8 +29,11 @@ pub struct LubricationCoefficients {
     pub yc22: f64,
     /// Inner regularisation of the dimensionless gap.
     pub xi_min: f64,
-    /// Outer cut-off of the dimensionless gap.
+    /// Outer cut-off of the dimensionless gap: the Kim-Karrila functions hold up to it.
     pub xi_max: f64,
+    /// Width of the taper beyond `xi_max` over which the resistance falls smoothly to zero
+    /// (0: the seeds' sharp cut at `xi_max`).
+    pub xi_taper: f64,
 }
 
 impl LubricationCoefficients {
@@ -49,6 +54,38 @@ impl LubricationCoefficients {
             yc22: 8.0 * PI * eta * a_j.powi(3) * 2.0 * b / (5.0 * invp1),
             xi_min,
             xi_max,
+            xi_taper: 0.0,
+        }
+    }
+
+    /// The same pair with the resistance tapered to zero over `width` beyond `xi_max`
+    /// (see [`Self::taper`]).
+    pub fn with_taper(self, width: f64) -> Self {
+        Self {
+            xi_taper: width,
+            ..self
+        }
+    }
+
+    /// The gap at which the resistance vanishes: `xi_max + xi_taper`.
+    pub fn xi_end(&self) -> f64 {
+        self.xi_max + self.xi_taper
+    }
+
+    /// The factor on every resistance function at gap `xi`: 1 up to `xi_max`, then the
+    /// smooth step `1 - 3 t^2 + 2 t^3` of `t = (xi - xi_max) / xi_taper`, 0 from `xi_end`:
+    /// continuous with a continuous slope at both ends, so that the mobility of a pair
+    /// has no jump at the cut-off (docs/physics.md section 11). A common factor keeps
+    /// every pair block positive semi-definite and its rank-two tangential structure.
+    #[inline]
+    pub fn taper(&self, xi: f64) -> f64 {
+        if xi <= self.xi_max {
+            1.0
+        } else if xi >= self.xi_end() {
+            0.0
+        } else {
+            let t = (xi - self.xi_max) / self.xi_taper;
+            1.0 - t * t * (3.0 - 2.0 * t)
         }
     }
 
@@ -59,18 +96,20 @@ impl LubricationCoefficients {
     }
 
     /// The pair's resistance functions at dimensionless gap `xi` (values below `xi_min`,
-    /// including overlaps, use `xi_min`), or `None` at or beyond `xi_max`: the squeeze term
-    /// (3.8) and the log terms `Y11A`, `Y11B`, `Y21B`, `Y11C`, `Y12C`, `Y22C`.
+    /// including overlaps, use `xi_min`), or `None` at or beyond `xi_end`: the squeeze term
+    /// (3.8) and the log terms `Y11A`, `Y11B`, `Y21B`, `Y11C`, `Y12C`, `Y22C`, times the
+    /// [`Self::taper`] beyond `xi_max`.
     #[inline]
     pub fn resistance(&self, xi: f64) -> Option<PairResistance> {
-        if xi >= self.xi_max {
+        if xi >= self.xi_end() {
             return None;
         }
+        let s = self.taper(xi);
         let xi = xi.max(self.xi_min);
         let inv_xi = 1.0 / xi;
-        let log = inv_xi.ln();
+        let log = s * inv_xi.ln();
         Some(PairResistance {
-            x11a: self.xa_singular * inv_xi + self.xa_log * log,
+            x11a: s * self.xa_singular * inv_xi + self.xa_log * log,
             y11a: self.ya * log,
             y11b: self.yb11 * log,
             y21b: self.yb21 * log,
@@ -81,7 +120,7 @@ impl LubricationCoefficients {
     }
 
     /// Lubrication load at gap `xi` (see [`PairResistance::load`]); zero at or beyond
-    /// `xi_max`.
+    /// `xi_end`.
     #[inline]
     pub fn load(&self, xi: f64, n: &Vec3, dv: &Vec3, omega_i: &Vec3, omega_j: &Vec3) -> PairLoad {
         self.resistance(xi)

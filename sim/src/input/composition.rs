@@ -17,7 +17,8 @@
 //! out. The expansion is written into `particles.radii`, `fractions` and `phi`, so a scene
 //! written back out and read again expands to the same values, which are then checked.
 use crate::error::SimError;
-use crate::input::scene::ParticleSection;
+use crate::input::scene_file::{default_colloid_radii, ParticleSection};
+pub use crate::input::scene_file::{InitialSuspension, MixtureSection, Species};
 use crate::input::scene_limits::{show, PHI_MAX};
 use crate::input::thermal_scales::peclet_number;
 use serde::{Deserialize, Serialize};
@@ -25,66 +26,6 @@ use serde::{Deserialize, Serialize};
 /// Largest relative disagreement accepted between a written-out value and the expansion
 /// (room for decimal round-off).
 const AGREEMENT: f64 = 1e-9;
-
-/// The `[particles.mixture]` table.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct MixtureSection {
-    /// Grain share of the solid volume `alpha = V_g / (V_c + V_g)`, in [0, 1].
-    pub alpha: f64,
-    /// Radii of the colloids (units a).
-    #[serde(default = "default_colloid_radii")]
-    pub colloid_radii: Vec<f64>,
-    /// Radii of the grains (units a), each larger than every colloid radius.
-    #[serde(default = "default_grain_radii")]
-    pub grain_radii: Vec<f64>,
-    /// The suspension the other species is added to at fixed liquid volume; absent: the
-    /// mixture is made at the given `particles.phi`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub initial: Option<InitialSuspension>,
-}
-
-fn default_colloid_radii() -> Vec<f64> {
-    vec![1.0, 1.4]
-}
-fn default_grain_radii() -> Vec<f64> {
-    vec![5.0, 7.0]
-}
-
-/// One of the two species of a mixture.
-#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum Species {
-    Colloids,
-    Grains,
-}
-
-impl Species {
-    /// The name as written in scene files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Species::Colloids => "colloids",
-            Species::Grains => "grains",
-        }
-    }
-
-    /// The species added to a suspension of this one.
-    pub fn other(self) -> Species {
-        match self {
-            Species::Colloids => Species::Grains,
-            Species::Grains => Species::Colloids,
-        }
-    }
-}
-
-/// A suspension of one species at volume fraction `phi`, to which the other is added at
-/// fixed liquid volume.
-#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct InitialSuspension {
-    pub species: Species,
-    pub phi: f64,
-}
 
 impl MixtureSection {
     /// Volume fraction after adding the other species at fixed liquid volume to the initial
@@ -304,6 +245,7 @@ impl Composition {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::input::scene_file::default_grain_radii;
 
     fn mixture(alpha: f64, initial: Option<(Species, f64)>) -> MixtureSection {
         MixtureSection {

@@ -8,10 +8,8 @@
 //! [`BYTES_PER_PARTICLE`] is the peak resident size per particle measured on dense scenes
 //! (see its documentation); the estimate is meant to be right within a factor of about 2.
 //! A scene carries its estimate; whether it fits is a property of the host, checked by
-//! [`check_fits_here`] where a run is about to start (or a command checks one), not when the
+//! [`Scene::check_fits_here`](crate::input::scene::Scene::check_fits_here) where a run is about to start (or a command checks one), not when the
 //! scene is read, so that one scene file is valid on every host.
-use crate::error::SimError;
-use crate::input::scene::Scene;
 
 /// Peak resident bytes per particle of `suspflow simulate`: 815 measured as
 /// `(maxRSS(N = 11018) - maxRSS(N = 282)) / 10736` with `/usr/bin/time -v` on one thread
@@ -40,28 +38,6 @@ pub fn physical_bytes() -> Option<f64> {
     Some(kib * 1024.0)
 }
 
-/// Fails when the run of `scene` needs more memory than this machine has (see
-/// [`Scene::memory_bytes`]); passes when the machine's memory is unknown.
-pub fn check_fits_here(scene: &Scene) -> Result<(), SimError> {
-    match physical_bytes().filter(|&machine| scene.memory_bytes > machine) {
-        None => Ok(()),
-        Some(machine) => {
-            let [l_x, l_y, l_z] = scene.box_len;
-            Err(SimError::field(
-                "box",
-                format!(
-                    "{} particles (phi = {} in a box of {l_x} x {l_y} x {l_z}) need about {} \
-                     of memory, more than this machine's {}; use a smaller box",
-                    scene.n_particles(),
-                    scene.file.particles.phi,
-                    describe(scene.memory_bytes),
-                    describe(machine)
-                ),
-            ))
-        }
-    }
-}
-
 /// `bytes` for people: `512 MB`, `3.2 GB`, `41000 GB`.
 pub fn describe(bytes: f64) -> String {
     if bytes < 1e9 {
@@ -83,28 +59,5 @@ mod tests {
         assert!(run_bytes(1000, [100.0; 3], 3.0) > small);
         assert_eq!(describe(5.12e8), "512 MB");
         assert_eq!(describe(4.1e13), "41000.0 GB");
-    }
-
-    /// A scene too large for any host is a valid scene (reading it does not depend on the
-    /// host); the host's check refuses it, and passes a small one.
-    #[test]
-    fn the_host_check_is_separate_from_reading() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/scenes");
-        let large = Scene::from_path(
-            std::path::Path::new(&format!("{dir}/bad/box_too_large_for_memory.toml")),
-            true,
-        )
-        .expect("a scene of 4e8 particles is read");
-        assert!(large.memory_bytes > 4e11, "{}", large.memory_bytes);
-        if physical_bytes().is_some_and(|m| m < large.memory_bytes) {
-            let message = check_fits_here(&large).unwrap_err().to_string();
-            assert!(message.contains("more than this machine's"), "{message}");
-        }
-        let quick = Scene::from_path(
-            std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/quick.toml")),
-            true,
-        )
-        .unwrap();
-        assert!(check_fits_here(&quick).is_ok());
     }
 }

@@ -12,5 +12,7 @@ pub mod profile_syntax;
 pub mod replica_seeds;
 pub mod run_cost;
 pub mod scene;
+pub mod scene_checks;
+pub mod scene_file;
 pub mod scene_limits;
 pub mod thermal_scales;

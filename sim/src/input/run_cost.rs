@@ -2,12 +2,17 @@
 //! on this machine, from the scene's automatic time step; runs that cannot finish are
 //! refused and long ones announced.
 use crate::error::SimError;
-use crate::input::scene::Scene;
+use crate::input::scene_file::RunSection;
 use crate::input::scene_limits::show;
 
 /// Particle-steps per second of a run here (2 cores): the validation scenes of the full
 /// report ran at 9.0-9.3e5 (README, Report), rounded up so that estimates err short.
 pub const PARTICLE_STEPS_PER_S: f64 = 1e6;
+
+/// The same for a Brownian scene's implicit (midpoint) step, two force evaluations and two
+/// solves a step: `suspflow bench --brownian --n 1000` runs 1.4-1.6e5 per core (two cores
+/// 3e5), dense frictional suspensions about a third of that (docs/physics.md section 11).
+pub const BROWNIAN_PARTICLE_STEPS_PER_S: f64 = 3e5;
 
 /// Estimated wall time above which a scene is announced with a warning (one day).
 pub const WARN_SECONDS: f64 = 86_400.0;
@@ -26,24 +31,36 @@ pub struct RunCost {
     pub equilibration_particle_steps: f64,
     /// Particle-steps of the averaging (`run.snapshots` x `run.sample_strain`).
     pub averaging_particle_steps: f64,
+    /// Particle-steps per second here ([`PARTICLE_STEPS_PER_S`] or, for a Brownian scene,
+    /// [`BROWNIAN_PARTICLE_STEPS_PER_S`]).
+    pub rate: f64,
 }
 
 impl RunCost {
-    /// The cost of `scene` at its time step.
-    pub fn new(scene: &Scene) -> RunCost {
-        let r = &scene.file.run;
-        let steps_per_strain = scene.timestep.steps_per_strain(scene);
-        let n = scene.n_particles() as f64;
+    /// The cost of a run of `run` for `n_particles` at `steps_per_strain` steps per unit
+    /// of its clock, with Brownian forces or not.
+    pub fn new(
+        steps_per_strain: f64,
+        n_particles: usize,
+        r: &RunSection,
+        brownian: bool,
+    ) -> RunCost {
+        let n = n_particles as f64;
         RunCost {
             steps_per_strain,
             equilibration_particle_steps: steps_per_strain * r.max_strain * n,
             averaging_particle_steps: steps_per_strain * r.sample_strain * r.snapshots as f64 * n,
+            rate: if brownian {
+                BROWNIAN_PARTICLE_STEPS_PER_S
+            } else {
+                PARTICLE_STEPS_PER_S
+            },
         }
     }
 
-    /// Estimated wall time at most (s) here, at [`PARTICLE_STEPS_PER_S`].
+    /// Estimated wall time at most (s) here, at [`Self::rate`].
     pub fn seconds(&self) -> f64 {
-        (self.equilibration_particle_steps + self.averaging_particle_steps) / PARTICLE_STEPS_PER_S
+        (self.equilibration_particle_steps + self.averaging_particle_steps) / self.rate
     }
 
     /// A duration for people: seconds, hours, days or years.
@@ -69,7 +86,7 @@ impl RunCost {
             self.steps_per_strain,
             self.equilibration_particle_steps + self.averaging_particle_steps,
             Self::describe(s),
-            show(PARTICLE_STEPS_PER_S)
+            show(self.rate)
         );
         if !(..=REFUSE_SECONDS).contains(&s) {
             return Err(SimError::field(
@@ -94,6 +111,7 @@ mod tests {
             steps_per_strain: 1e3,
             equilibration_particle_steps: seconds * PARTICLE_STEPS_PER_S,
             averaging_particle_steps: 0.0,
+            rate: PARTICLE_STEPS_PER_S,
         }
     }
 

@@ -7,7 +7,7 @@
 //! run is limited separately by [`crate::input::run_cost`].
 use crate::error::SimError;
 use crate::input::flow_profile::FlowProfile;
-use crate::input::scene::SceneFile;
+use crate::input::scene_file::SceneFile;
 
 /// The accepted range `[min, max]` of one scene value, in its own units.
 struct Range {

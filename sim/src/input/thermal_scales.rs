@@ -1,7 +1,7 @@
 //! The time scales and dimensionless groups of a Brownian scene (thesis section 3.8,
 //! paper eqs 2.28-2.31; docs/physics.md section 11), with `a` the small radius.
 use crate::error::SimError;
-use crate::input::scene::FluidSection;
+use crate::input::scene_file::FluidSection;
 use crate::input::scene_limits::show;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -29,36 +29,6 @@ pub fn soft_contact_warning(kt: f64, k_n: f64, a: f64) -> Option<String> {
              soft against kT (thesis Table 4.1: 0.0013; mixtures blew up at 0.014); raise \
              forces.k_n, or lower Pe through the shear rate at a fixed kT, as Table 4.1 does \
              below Pe = 1"
-        )
-    })
-}
-
-/// Largest step, in units of the small spheres' velocity relaxation time
-/// `m / (6 pi eta a) = (2/9) tau_I`, without a warning in a Brownian scene. Measured at
-/// rho = 0.05, phi 0.45 and 0.50 (reports/brownian/README.md sections 5 and 9): sheared at
-/// Pe = 1, at 3.2 relaxation times (the old automatic step there) eta_r is 15-25 % high and
-/// its lubrication part 1.8-2x, while at 0.32 the structural Brownian stress is converged
-/// and the lubrication part within 5-10 % of its value at 0.07; at rest, the Green-Kubo
-/// Brownian viscosity at phi 0.45 is 7.8 at 3.2 relaxation times and 3.2 at 0.32. The
-/// automatic implicit step of a Brownian scene is capped at it.
-pub const RELAXATION_STEP_LIMIT: f64 = 0.35;
-
-/// The warning when the step `dt` of a Brownian scene over-damps the velocity relaxation
-/// of its small spheres (their [`crate::forces::drag::relaxation_time`]), more than
-/// [`RELAXATION_STEP_LIMIT`] relaxation times: the equilibrium structure is right there,
-/// the sheared stresses and the stress fluctuations at rest are not. The automatic
-/// implicit step is capped at the limit
-/// ([`crate::integrate::timestep::DtLimit::Relaxation`]), so only a step the scene sets
-/// (`run.dt`, or `run.dt_factor` above 1) can exceed it.
-pub fn unresolved_relaxation_warning(dt: f64, relaxation_time: f64) -> Option<String> {
-    let steps = dt / relaxation_time;
-    (steps > RELAXATION_STEP_LIMIT).then(|| {
-        format!(
-            "the step is {steps:.2} velocity relaxation times m/(6 pi eta a) of the small spheres \
-             (> {RELAXATION_STEP_LIMIT}): Brownian stresses come out biased (at 3.2: eta_r 15-25 % \
-             high at Pe 1, the Green-Kubo viscosity 2.4x at rest); cut the step {:.1}x \
-             (run.dt, run.dt_factor): the automatic step stays within the limit",
-            steps / RELAXATION_STEP_LIMIT
         )
     })
 }
@@ -168,21 +138,6 @@ impl ThermalScales {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::forces::drag;
-    use crate::state::particles::sphere_mass;
-
-    #[test]
-    fn an_over_damped_brownian_step_is_named() {
-        // rho = 0.05, a = 1, eta = 1: relaxation time 0.0111; the automatic 3.56e-2 is 3.2 of
-        // it, 3.56e-3 (0.1 of it) is 0.32, under the limit.
-        let relaxation = |rho| drag::relaxation_time(sphere_mass(rho, 1.0), 1.0, 1.0);
-        let w = unresolved_relaxation_warning(3.56e-2, relaxation(0.05)).unwrap();
-        assert!(w.contains("3.20 velocity relaxation times"), "{w}");
-        assert!(w.contains("cut the step 9.2x"), "{w}");
-        assert!(unresolved_relaxation_warning(3.56e-3, relaxation(0.05)).is_none());
-        // rho = 0.5: the automatic step is 0.32 relaxation times.
-        assert!(unresolved_relaxation_warning(3.56e-2, relaxation(0.5)).is_none());
-    }
 
     /// Thesis Table 4.1 (a = 1, rho = eta = 0.1): kT = 0.017 gives tau_B = 5.9 and
     /// tau_I = 1; at gdot = 9e-3, Pe = 1.0; kT = 1.7e-6 at the same rate gives Pe = 1e4.

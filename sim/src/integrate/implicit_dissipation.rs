@@ -6,7 +6,8 @@
 //! of inertia, `D` the one-body drag (3.5, 3.6), `V_inf` the streaming motion at each
 //! particle and `R` the lubrication resistance of every pair (3.8-3.18). `M + dt (D + R)`
 //! is symmetric positive definite, so the solve is preconditioned conjugate gradients
-//! (each particle's own 3x3 blocks inverted), warm-started from `V`.
+//! (each particle's own 3x3 blocks inverted), warm-started from `V` or from a guess the
+//! caller has (the midpoint step's corrector starts from its predictor's solution).
 //!
 //! The product `A d` of the search direction is carried by recurrence: with `z` the
 //! preconditioned residual, `d' = z + beta d` gives `A d' = A z + beta A d`. Each
@@ -156,13 +157,15 @@ impl ImplicitDissipation {
     /// conservative loads from `p.force` and `p.torque`. `drag` gives the fluid viscosity
     /// and the streaming flow when Stokes drag is on. The network's crossings must be
     /// indexed.
+    /// `guess`, when given, is the warm start (each particle's velocity and spin) instead
+    /// of `V`.
     pub fn solve(
         &mut self,
         p: &mut Particles,
         network: &ResistanceNetwork,
         drag: Option<(f64, &FlowProfile)>,
-        dt: f64,
-        settings: SolveSettings,
+        (dt, settings): (f64, SolveSettings),
+        guess: Option<&[Motion]>,
     ) -> Result<SolveStats, SolveFailure> {
         let n = p.len();
         self.rows.resize(n, Rows::default());
@@ -170,7 +173,7 @@ impl ImplicitDissipation {
         self.w.resize(n, Motion::default());
         let net: &ResistanceNetwork = network;
         let bounds = &net.bounds;
-        let b_norm = self.prepare(p, net, drag, dt).sqrt();
+        let b_norm = self.prepare(p, net, drag, dt, guess).sqrt();
         let mut stats = SolveStats::default();
         // Start: the product of the warm start (in w after `prepare`), the preconditioner
         // blocks inverted, r = b - A x, z = P r.
@@ -264,8 +267,8 @@ impl ImplicitDissipation {
         Ok(stats)
     }
 
-    /// Fills each row's warm start `x = V` (also in `w`, the input of the first
-    /// product), right-hand side (in `r`), diagonal, and block of `R` (in
+    /// Fills each row's warm start `x` (`guess`, or `V`; also in `w`, the input of the
+    /// first product), right-hand side (in `r`), diagonal, and block of `R` (in
     /// `preconditioner`); returns `|b|^2`.
     fn prepare(
         &mut self,
@@ -273,6 +276,7 @@ impl ImplicitDissipation {
         network: &ResistanceNetwork,
         drag: Option<(f64, &FlowProfile)>,
         dt: f64,
+        guess: Option<&[Motion]>,
     ) -> f64 {
         let sums = sum_ranges(
             &network.bounds,
@@ -287,8 +291,8 @@ impl ImplicitDissipation {
                     } else {
                         (p.vel[i], p.force[i], p.mass[i])
                     };
-                    row.x = v;
-                    *w = v;
+                    row.x = guess.map_or(v, |g| g[i][c]);
+                    *w = row.x;
                     row.r = v * mass + load * dt;
                     row.diagonal = mass;
                     row.preconditioner = Matrix3::zeros();

@@ -64,6 +64,8 @@ struct Thermal {
     /// The predictor's mean velocity over the step, which carried the positions to the
     /// midpoint.
     predicted: Vec<Vec3>,
+    /// The predictor's mean velocity and spin, the corrector's warm start.
+    guess: Vec<Motion>,
     /// Work space of the explicit step's dissipative loads.
     motion: Vec<Motion>,
     scratch: Vec<Motion>,
@@ -106,7 +108,7 @@ impl Thermal {
             let (r, image) = pbox.image(&p.pos[i], &p.pos[j]);
             let c = field.constants(p.species[i], p.species[j]);
             let lub = c.lubrication.as_ref().expect("network pairs lubricate");
-            gap((r + shift(image)).norm(), p.radius[i], p.radius[j]) >= lub.xi_max
+            gap((r + shift(image)).norm(), p.radius[i], p.radius[j]) >= lub.xi_end()
         };
         let left = |pair: &ResistancePair| beyond(pair, &|_| Vec3::zeros());
         let entered = |pair: &ResistancePair| {
@@ -136,6 +138,14 @@ impl Thermal {
     fn keep_start(&mut self, p: &Particles) {
         self.start.clear();
         self.start
+            .extend(p.vel.iter().zip(&p.omega).map(|(v, w)| [*v, *w]));
+    }
+
+    /// Keeps the predictor's mean velocities and spins (in `p.vel`, `p.omega`) as the
+    /// corrector's warm start.
+    fn keep_guess(&mut self, p: &Particles) {
+        self.guess.clear();
+        self.guess
             .extend(p.vel.iter().zip(&p.omega).map(|(v, w)| [*v, *w]));
     }
 
@@ -236,7 +246,7 @@ impl Simulation {
 
     /// The system without neighbour list or forces.
     fn bare(scene: &Scene, particles: Particles) -> Result<Self, SimError> {
-        let field = ForceField::from_file(&scene.file);
+        let field = scene.force_field.clone();
         let timestep = scene.timestep;
         if !(timestep.dt.is_finite() && timestep.dt > 0.0) {
             return Err(SimError::field(
@@ -259,6 +269,7 @@ impl Simulation {
             kicks: Vec::new(),
             start: Vec::new(),
             predicted: Vec::new(),
+            guess: Vec::new(),
             motion: Vec::new(),
             scratch: Vec::new(),
         });
@@ -497,7 +508,7 @@ impl Simulation {
     /// velocities) are the ones the step applied.
     fn implicit_step(&mut self) -> Result<(), SimError> {
         self.drift_and_reload();
-        let solved = self.solve_dissipation(self.timestep.dt);
+        let solved = self.solve_dissipation(self.timestep.dt, None);
         self.step += 1;
         self.time += self.timestep.dt;
         solved?;
@@ -530,7 +541,7 @@ impl Simulation {
         th.keep_start(&self.particles);
         th.add_kicks(&mut self.particles);
         self.timers.stop(Stage::Integration, t);
-        self.solve_dissipation(half)?;
+        self.solve_dissipation(half, None)?;
         let t = self.timers.start();
         self.pbox.set_time(self.time + half);
         let th = self
@@ -559,8 +570,14 @@ impl Simulation {
             self.step,
         );
         th.add_kicks(&mut self.particles);
+        th.keep_guess(&self.particles);
         th.restore_start(&mut self.particles);
-        self.solve_dissipation(half)?;
+        let guess = std::mem::take(&mut th.guess);
+        let solved = self.solve_dissipation(half, Some(&guess));
+        if let Some(th) = self.thermal.as_mut() {
+            th.guess = guess;
+        }
+        solved?;
         let t = self.timers.start();
         at_midpoint(self);
         self.timers.stop(Stage::Sampling, t);
@@ -579,12 +596,17 @@ impl Simulation {
 
     /// Replaces the velocities and spins by the solution of the implicit system with
     /// step `dt` (docs/physics.md section 5), under the loads in `p.force`, `p.torque`.
-    fn solve_dissipation(&mut self, dt: f64) -> Result<(), SimError> {
+    /// `guess`: the solve's warm start, when better than the current velocities.
+    fn solve_dissipation(&mut self, dt: f64, guess: Option<&[Motion]>) -> Result<(), SimError> {
         let t = self.timers.start();
         let drag = self.field.drag.then_some((self.field.eta, &self.profile));
-        let solved =
-            self.dissipation
-                .solve(&mut self.particles, &self.network, drag, dt, self.solver);
+        let solved = self.dissipation.solve(
+            &mut self.particles,
+            &self.network,
+            drag,
+            (dt, self.solver),
+            guess,
+        );
         self.timers.stop(Stage::Integration, t);
         match solved {
             Ok(stats) => {

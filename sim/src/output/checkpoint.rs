@@ -1,6 +1,6 @@
 //! Checkpoints: the state of a run as JSON (floats round-trip exactly), written atomically.
 use crate::error::SimError;
-use crate::output::atomic_write::write_atomic;
+use schema::write_atomic;
 use serde::{de::DeserializeOwned, Serialize};
 use std::path::Path;
 
@@ -10,7 +10,7 @@ pub fn save<T: Serialize>(path: &Path, state: &T) -> Result<(), SimError> {
         path: path.display().to_string(),
         message: e.to_string(),
     })?;
-    write_atomic(path, &bytes)
+    Ok(write_atomic(path, &bytes)?)
 }
 
 /// Loads a state saved by [`save`].

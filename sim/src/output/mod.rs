@@ -1,9 +1,9 @@
 //! Files a run writes: the binned table, the summary, frames, and checkpoints.
 
-pub mod atomic_write;
 pub mod checkpoint;
 pub mod element_symbol;
 pub mod extended_xyz;
+pub mod file_lock;
 pub mod frame_writer;
 pub mod lammps_dump;
 pub mod result_files;

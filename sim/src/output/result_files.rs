@@ -5,12 +5,12 @@
 //! convention). The particle frames are [`snapshot_format`](crate::output::snapshot_format)'s.
 use crate::error::SimError;
 use crate::input::scene::{Scene, SceneFile};
-use crate::output::atomic_write::write_atomic;
 use crate::output::run_summary::{RunOutcome, RunSummary};
 use crate::sampling::bin_averages::BinAverages;
 use crate::sampling::block_sums::BlockSums;
 use crate::sampling::stress_parts::StressParts;
 use schema::columns::{self as dataset_columns, OBSERVABLES};
+use schema::write_atomic;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -68,6 +68,16 @@ pub fn stress_rows(y: &[f64], stress: &StressParts) -> String {
 
 /// Name of the snapshot-sums file in a result directory.
 pub const SNAPSHOT_SUMS: &str = "snapshot_sums.json";
+/// Name of the binned profile in a result directory.
+pub const PROFILE: &str = "profile.csv";
+/// Name of the run summary in a result directory.
+pub const SUMMARY: &str = "summary.json";
+/// Name of the stress parts per bin in a result directory.
+pub const STRESS: &str = "stress.csv";
+/// The files whose presence says a steady run is finished.
+pub const RESULTS: [&str; 2] = [PROFILE, SUMMARY];
+/// Every file [`write_results`] writes.
+pub const WRITTEN: [&str; 4] = [PROFILE, STRESS, SUMMARY, SNAPSHOT_SUMS];
 
 /// Contents of [`SNAPSHOT_SUMS`]: the scene as run and its averaged snapshot sums.
 #[derive(Debug, Serialize, Deserialize)]
@@ -89,14 +99,14 @@ pub fn write_results(dir: &Path, scene: &Scene, outcome: &RunOutcome) -> Result<
         dataset_columns::header(),
         profile_rows(scene, &outcome.profile, &outcome.summary)
     );
-    write_atomic(&dir.join("profile.csv"), csv.as_bytes())?;
+    write_atomic(&dir.join(PROFILE), csv.as_bytes())?;
     let stress = format!(
         "{}\n{}",
         dataset_columns::stress_parts_header(),
         stress_rows(&outcome.profile.y, &outcome.stress)
     );
-    write_atomic(&dir.join("stress.csv"), stress.as_bytes())?;
-    write_json(&dir.join("summary.json"), &outcome.summary)?;
+    write_atomic(&dir.join(STRESS), stress.as_bytes())?;
+    write_json(&dir.join(SUMMARY), &outcome.summary)?;
     let sums = SnapshotSums {
         scene: scene.file.clone(),
         sums: outcome.sums.clone(),
@@ -109,5 +119,5 @@ fn write_json(path: &Path, value: &impl Serialize) -> Result<(), SimError> {
         path: path.display().to_string(),
         message: e.to_string(),
     })?;
-    write_atomic(path, &json)
+    Ok(write_atomic(path, &json)?)
 }

@@ -4,14 +4,16 @@ use crate::input::composition::Composition;
 use crate::input::thermal_scales::ThermalScales;
 use crate::integrate::stage_timers::StageTimers;
 use crate::integrate::timestep::TimeStep;
+use crate::json_numbers::null_as_nan;
 use crate::sampling::bin_averages::BinAverages;
 use crate::sampling::block_sums::{BlockSums, Estimate};
 use crate::sampling::conventions::Conventions;
 use crate::sampling::shear_rheology::ShearRheology;
+use crate::sampling::species_temperatures::SpeciesTemperature;
 use crate::sampling::steady_state::Drift;
 use crate::sampling::stress_checks::StressChecks;
 use crate::sampling::stress_parts::StressParts;
-use serde::{Deserialize, Deserializer, Serialize};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// What a finished run reports besides its profile (written to summary.json, and read back
@@ -50,6 +52,10 @@ pub struct RunSummary {
     /// summaries of runs made before it was added.
     #[serde(default)]
     pub stress_parts: BTreeMap<String, Estimate>,
+    /// Kinetic temperatures of each species over kT, translation and rotation, relative to
+    /// the streaming flow (Brownian scenes; docs/physics.md section 11); absent otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub temperatures: Vec<SpeciesTemperature>,
     /// Box totals of a homogeneous-shear scene (docs/physics.md section 10).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shear: Option<ShearRheology>,
@@ -71,15 +77,17 @@ pub struct RunSummary {
     pub code_version: String,
 }
 
-/// Reads a number that JSON holds as `null` when it was not finite (serde_json writes NaN
-/// and the infinities so) as NaN.
-pub(crate) fn null_as_nan<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
-}
-
-/// Reads a limit that JSON holds as `null` when it was infinite (no such limit) as infinity.
-pub(crate) fn null_as_infinity<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+impl RunSummary {
+    /// Reads the summary a finished run wrote at `path` (see
+    /// [`write_results`](crate::output::result_files::write_results)).
+    pub fn read(path: &std::path::Path) -> Result<RunSummary, crate::error::SimError> {
+        let err = |message: String| crate::error::SimError::Output {
+            path: path.display().to_string(),
+            message,
+        };
+        let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
+        serde_json::from_slice(&bytes).map_err(|e| err(format!("not a run summary: {e}")))
+    }
 }
 
 /// Result of a completed run.
@@ -136,6 +144,10 @@ mod tests {
                 drag_critical: f64::INFINITY,
                 lubrication_critical: f64::INFINITY,
                 accuracy_limit: f64::INFINITY,
+                friction_critical: f64::INFINITY,
+                diffusion_limit: 2e-3,
+                relaxation_limit: f64::INFINITY,
+                cutoff_limit: f64::INFINITY,
                 integrator: Integrator::Explicit,
             },
             steps: 1234,
@@ -146,6 +158,7 @@ mod tests {
                 chi2_u: 0.9,
                 chi2_sigma_xy: 1.1,
                 chi2_phi_loc: 1.0,
+                chi2_structure: 0.0,
             }],
             snapshots: 40,
             wall_s: 2.5,
@@ -157,6 +170,11 @@ mod tests {
                 balance_residual: None,
             },
             stress_parts: BTreeMap::from([("sigma_xy_contact".to_string(), estimate(-0.2))]),
+            temperatures: vec![SpeciesTemperature {
+                radius: 1.0,
+                translation: estimate(1.0),
+                rotation: estimate(0.99),
+            }],
             shear: Some(ShearRheology {
                 shear_rate: 0.1,
                 sigma_xy: estimate(-0.2),

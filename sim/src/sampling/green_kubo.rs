@@ -5,8 +5,6 @@
 //! hydrodynamic viscosity at their lowest Peclet number to fit the low-Pe jamming point.
 use crate::error::SimError;
 use crate::forces::brownian_shell;
-use crate::input::initial_state::initial_particles;
-use crate::input::scene::Scene;
 use crate::integrate::simulation::Simulation;
 use serde::Serialize;
 
@@ -50,7 +48,7 @@ pub struct GreenKubo {
 
 /// Refuses a series of `samples` too short for `blocks` parts of at least four times the
 /// largest lag `max_lag` (in samples) each.
-fn check_length(samples: usize, max_lag: usize, blocks: usize) -> Result<(), SimError> {
+pub(crate) fn check_length(samples: usize, max_lag: usize, blocks: usize) -> Result<(), SimError> {
     if blocks >= 2 && max_lag > 0 && samples >= blocks * 4 * max_lag {
         return Ok(());
     }
@@ -109,63 +107,6 @@ impl GreenKubo {
             blocks,
         })
     }
-}
-
-/// How long an equilibrium Green-Kubo run is, in Brownian times `tau_B`.
-#[derive(Clone, Copy, Debug)]
-pub struct GreenKuboRun {
-    pub warmup_tau_b: f64,
-    pub span_tau_b: f64,
-    /// Steps between two samples of the stress.
-    pub every: u64,
-    pub max_lag_tau_b: f64,
-    pub blocks: usize,
-}
-
-/// Runs the unsheared Brownian `scene` (it needs `fluid.kT > 0` and no flow) from its
-/// initial packing: `warmup_tau_b`, then samples [`shell_shear_stress`] every `every` steps
-/// over `span_tau_b`, and integrates it. `progress(fraction done)` is called every sample.
-pub fn equilibrium_viscosity(
-    scene: &Scene,
-    run: GreenKuboRun,
-    progress: &mut dyn FnMut(f64),
-) -> Result<GreenKubo, SimError> {
-    let thermal = scene.thermal.ok_or_else(|| {
-        SimError::field(
-            "fluid.kT",
-            "the Green-Kubo viscosity needs Brownian forces (fluid.kT > 0)",
-        )
-    })?;
-    if scene.gdot_max() > 0.0 {
-        return Err(SimError::field(
-            "fluid",
-            "the Green-Kubo viscosity is of the unsheared suspension: give no \
-             fluid.shear_rate, fluid.profile or fluid.peclet",
-        ));
-    }
-    let dt = scene.timestep.dt;
-    let steps = |tau: f64| (tau * thermal.tau_b / dt).round() as u64;
-    let every = run.every.max(1);
-    let samples = (steps(run.span_tau_b) / every) as usize;
-    let sample_dt = dt * every as f64;
-    let max_lag = (run.max_lag_tau_b * thermal.tau_b / sample_dt).round() as usize;
-    check_length(samples, max_lag, run.blocks)?;
-    let mut sim = Simulation::new(scene, initial_particles(scene)?)?;
-    sim.advance(steps(run.warmup_tau_b))?;
-    let mut series = Vec::with_capacity(samples);
-    for k in 0..samples {
-        sim.advance(every)?;
-        series.push(shell_shear_stress(&sim));
-        progress((k + 1) as f64 / samples as f64);
-    }
-    let volume = scene.box_len.iter().product();
-    GreenKubo::of_series(
-        &series,
-        sample_dt,
-        (volume, thermal.kt),
-        max_lag,
-        run.blocks,
-    )
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ pub mod periodic_derivative;
 pub mod scene_binning;
 pub mod shear_rheology;
 pub mod snapshot;
+pub mod species_temperatures;
 pub mod steady_state;
 pub mod stress_checks;
 pub mod stress_parts;

@@ -1,12 +1,15 @@
 //! Steady-state detection (docs/physics.md section 7). The run is cut into windows of equal strain;
 //! the run is steady once u(y), sigma_xy(y) and phi_loc(y) show no significant linear
-//! trend over the last [`TREND_WINDOWS`] window averages. Windows, not snapshots, are the
+//! trend over the last [`TREND_WINDOWS`] window averages, and in a Brownian scene also the
+//! structural Brownian pressure(y), which counts the pairs within 0.05 a of contact: the
+//! near-contact structure of a fresh packing relaxes over several Brownian times while the
+//! profiles are already flat (docs/physics.md section 11). Windows, not snapshots, are the
 //! samples: the noise is the scatter of the window means about the fitted trend, pooled
 //! over bins, so time correlation inside a window does not fake a drift.
 use crate::error::SimError;
 use crate::sampling::bin_averages::{observables, BinningContext};
 use crate::sampling::block_sums::BlockSums;
-use crate::sampling::snapshot::field::{COUNT, VX};
+use crate::sampling::snapshot::field::{BROWNIAN, COUNT, VX};
 use serde::{Deserialize, Serialize};
 
 /// Windows in the trend test.
@@ -21,12 +24,19 @@ pub struct Drift {
     pub chi2_u: f64,
     pub chi2_sigma_xy: f64,
     pub chi2_phi_loc: f64,
+    /// The structural Brownian pressure's (0 without Brownian forces, and in the records
+    /// of runs made before it was watched).
+    #[serde(default)]
+    pub chi2_structure: f64,
 }
 
 impl Drift {
-    /// Largest of the three.
+    /// Largest of the four.
     pub fn worst(&self) -> f64 {
-        self.chi2_u.max(self.chi2_sigma_xy).max(self.chi2_phi_loc)
+        self.chi2_u
+            .max(self.chi2_sigma_xy)
+            .max(self.chi2_phi_loc)
+            .max(self.chi2_structure)
     }
 }
 
@@ -37,6 +47,10 @@ pub struct SteadyState {
     pub window: BlockSums,
     /// Mean u, sigma_xy and phi_loc profiles of every completed window.
     pub window_means: Vec<[Vec<f64>; 3]>,
+    /// Mean structural Brownian pressure (trace of its per-bin sums, any units) of every
+    /// completed window of a Brownian scene; empty otherwise.
+    #[serde(default)]
+    pub structure_means: Vec<Vec<f64>>,
     /// Trend statistics after every completed window from the [`TREND_WINDOWS`]-th on.
     pub history: Vec<Drift>,
     threshold: f64,
@@ -78,6 +92,7 @@ impl SteadyState {
         Self {
             window: BlockSums::new(n_bins, 1, snapshots_per_window.max(1)),
             window_means: Vec::new(),
+            structure_means: Vec::new(),
             history: Vec::new(),
             threshold,
         }
@@ -93,6 +108,12 @@ impl SteadyState {
             .collect();
         let o = observables(ctx, &sums, self.window.taken, &u_star)?;
         self.window_means.push([o.u, o.sigma_xy, o.phi_loc]);
+        let structure: Vec<f64> = (0..nb)
+            .map(|k| (0..3).map(|c| sums[(BROWNIAN + c) * nb + k]).sum::<f64>())
+            .collect();
+        if structure.iter().any(|&x| x != 0.0) {
+            self.structure_means.push(structure);
+        }
         self.window = BlockSums::new(nb, 1, self.window.per_block);
         let n = self.window_means.len();
         if n < TREND_WINDOWS {
@@ -100,11 +121,22 @@ impl SteadyState {
         }
         let last = &self.window_means[n - TREND_WINDOWS..];
         let chi2 = |q: usize| trend_chi2(&last.iter().map(|w| &w[q]).collect::<Vec<_>>());
+        let ns = self.structure_means.len();
+        let chi2_structure = if ns >= TREND_WINDOWS {
+            trend_chi2(
+                &self.structure_means[ns - TREND_WINDOWS..]
+                    .iter()
+                    .collect::<Vec<_>>(),
+            )
+        } else {
+            0.0
+        };
         let drift = Drift {
             strain,
             chi2_u: chi2(0),
             chi2_sigma_xy: chi2(1),
             chi2_phi_loc: chi2(2),
+            chi2_structure,
         };
         self.history.push(drift);
         Ok(drift.worst() < self.threshold)
@@ -115,8 +147,10 @@ impl SteadyState {
         match self.history.last() {
             Some(d) => format!(
                 "trend over the last {TREND_WINDOWS} windows at strain {:.2}: chi2 u = {:.2}, sigma_xy = {:.2}, \
-                 phi_loc = {:.2} (steady below {})",
-                d.strain, d.chi2_u, d.chi2_sigma_xy, d.chi2_phi_loc, self.threshold),
+                 phi_loc = {:.2}{} (steady below {})",
+                d.strain, d.chi2_u, d.chi2_sigma_xy, d.chi2_phi_loc,
+                if self.structure_means.is_empty() { String::new() } else { format!(", structural Brownian pressure = {:.2}", d.chi2_structure) },
+                self.threshold),
             None => format!("fewer than {TREND_WINDOWS} windows completed"),
         }
     }

@@ -7,5 +7,6 @@
 pub mod benchmark;
 pub mod brownian_benchmark;
 pub mod convergence;
+pub mod equilibrium;
 pub mod run_length;
 pub mod stability_sweep;

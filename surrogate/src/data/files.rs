@@ -15,11 +15,14 @@ pub(crate) fn read(path: &Path) -> Result<Vec<u8>> {
     })
 }
 
-/// Writes `bytes` to `path`, replacing any file there.
+/// Writes `bytes` to `path` whole, replacing any file there ([`schema::write_atomic`]).
 pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<()> {
-    std::fs::write(path, bytes).map_err(|source| SurrogateError::Io {
+    schema::write_atomic(path, bytes).map_err(|e| SurrogateError::Io {
         path: path.to_path_buf(),
-        source,
+        source: match e {
+            schema::SchemaError::Write { source, .. } => source,
+            other => std::io::Error::other(other.to_string()),
+        },
     })
 }
 

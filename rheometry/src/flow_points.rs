@@ -1,0 +1,273 @@
+//! The points of the flow curves of a grid of homogeneous-shear scenes (docs/physics.md
+//! sections 10 and 11) that a batch ran into its folders: per finished run the box totals
+//! of its summary as a [`StatePoint`] of `surrogate::rheology::flow_curves`, with the
+//! Green-Kubo viscosity at its volume fraction when given, and its line of
+//! `flow_curves.csv` ([`FlowCurveRow`], written and read back by that type).
+use crate::error::{Result, RheometryError};
+use crate::green_kubo::GreenKuboResult;
+use serde::{Deserialize, Serialize};
+use sim::input::grid::Grid;
+use sim::output::result_files::RESULTS;
+use sim::output::run_summary::RunSummary;
+use sim::run::run_folder::{Recorded, RunFolder, RunStatus};
+use sim::sampling::block_sums::Estimate;
+use sim::sampling::shear_rheology::ShearRheology;
+use std::path::Path;
+use surrogate::{bin_viscosity, green_kubo_at, part_viscosity, Dataset, State, StatePoint};
+
+/// The parts of `eta_r` the table and figures show: name in `flow_curves.csv`, legend, and
+/// the stress part (`schema::columns::STRESS_PARTS`) it is `-sigma_xy / (eta gdot)` of.
+/// `contact + lubrication` is the box's `eta_r`; the drag stresslet (the isolated spheres'
+/// `2.5 phi`) and the structural Brownian stress are reported beside them.
+pub const PARTS: [(&str, &str, &str); 4] = [
+    ("eta_r_contact", "contact", "sigma_xy_contact"),
+    (
+        "eta_r_hydrodynamic",
+        "hydrodynamic (lubrication)",
+        "sigma_xy_lubrication",
+    ),
+    ("eta_r_drag", "one-body drag", "sigma_xy_drag"),
+    ("eta_r_brownian", "structural Brownian", "sigma_xy_brownian"),
+];
+
+/// One finished run: its point on the flow curves and what the table shows beside it.
+#[derive(Clone, Debug)]
+pub struct FlowPoint {
+    pub id: String,
+    pub summary: Box<RunSummary>,
+    pub rheology: ShearRheology,
+    /// Thermal energy (0 without Brownian forces).
+    pub kt: f64,
+    /// `tau_I / tau_B = rho kT / (eta^2 a)` of a Brownian scene.
+    pub inertia_diffusion: Option<f64>,
+    pub point: StatePoint,
+}
+
+/// The finished runs of a grid, and the labels of those not finished.
+pub struct FlowRuns {
+    pub points: Vec<FlowPoint>,
+    pub missing: Vec<String>,
+}
+
+impl FlowRuns {
+    /// The runs of `grid` in the batch folder `runs` (where `generate` ran it), each with
+    /// the Green-Kubo viscosity of `green_kubo` at its volume fraction (the mean over the
+    /// results there). Refuses a grid without homogeneous shear and folders made for other
+    /// scenes.
+    pub fn read(grid: &Grid, runs: &Path, green_kubo: &[GreenKuboResult]) -> Result<FlowRuns> {
+        let replicas: Vec<(f64, f64, f64)> = green_kubo
+            .iter()
+            .map(|g| {
+                (
+                    g.phi_actual,
+                    g.extrapolated_eta_brownian_over_eta,
+                    g.extrapolated_eta_brownian_over_eta_se,
+                )
+            })
+            .collect();
+        let mut found = FlowRuns {
+            points: Vec::new(),
+            missing: Vec::new(),
+        };
+        for gs in &grid.runs {
+            let Some(gdot) = gs.scene.shear_rate() else {
+                return Err(RheometryError::File {
+                    path: grid.name.clone(),
+                    message: format!(
+                        "scene {} has no fluid.shear_rate; flow curves need homogeneous shear",
+                        gs.id
+                    ),
+                });
+            };
+            let work = RunFolder::in_batch(runs, &gs.label());
+            if work.status(&RESULTS) != RunStatus::Done {
+                found.missing.push(gs.label());
+                continue;
+            }
+            if work.recorded_scene(&gs.scene.file)? != Recorded::Same {
+                return Err(RheometryError::File {
+                    path: work.dir.display().to_string(),
+                    message: format!(
+                        "the run there was not made for scene {} of grid `{}` (another shear \
+                         rate, volume fraction or setting, or no scene.toml): the runs must be \
+                         the folder in which the grid was run",
+                        gs.id, grid.name
+                    ),
+                });
+            }
+            let summary = Box::new(work.summary()?);
+            let rheology = summary.shear.ok_or_else(|| RheometryError::File {
+                path: work.summary_json().display().to_string(),
+                message: "no `shear` box totals".into(),
+            })?;
+            let eta_gdot = gs.scene.file.fluid.eta * gdot;
+            let eta_r_bins = bin_viscosity(&Dataset::read_csv(work.profile_csv())?, eta_gdot)?;
+            let parts = PARTS.map(|(_, _, part)| {
+                summary
+                    .stress_parts
+                    .get(part)
+                    .map_or((f64::NAN, f64::NAN), |e| {
+                        part_viscosity(e.mean, e.se, eta_gdot)
+                    })
+            });
+            let state = State {
+                mu_p: gs.scene.file.forces.mu_p,
+                peclet: gs
+                    .scene
+                    .thermal
+                    .and_then(|t| t.peclet)
+                    .unwrap_or(f64::INFINITY),
+                alpha: gs.scene.file.particles.mixture.as_ref().map(|m| m.alpha),
+                rho: gs.scene.rho,
+            };
+            let estimate = |e: Estimate| (e.mean, e.se);
+            found.points.push(FlowPoint {
+                id: gs.id.clone(),
+                point: StatePoint {
+                    state,
+                    phi: gs.scene.file.particles.phi,
+                    seed: gs.scene.file.seed,
+                    phi_actual: summary.phi_actual,
+                    eta_r: estimate(rheology.eta_r),
+                    eta_r_bins,
+                    parts,
+                    mu: estimate(rheology.mu),
+                    j: estimate(rheology.j),
+                    green_kubo: green_kubo_at(&replicas, summary.phi_actual),
+                },
+                summary,
+                rheology,
+                kt: gs.scene.file.fluid.kt,
+                inertia_diffusion: gs.scene.thermal.map(|t| t.inertia_diffusion),
+            });
+        }
+        Ok(found)
+    }
+}
+
+/// One run's line of `flow_curves.csv`: the run, its box totals (mean and standard error),
+/// `eta_r` of its bins and of each of [`PARTS`], and a mixture's composition (empty for
+/// other scenes).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FlowCurveRow {
+    pub scene_id: String,
+    pub phi: f64,
+    /// Infinite without Brownian forces.
+    pub peclet: f64,
+    pub mu_p: f64,
+    pub seed: u64,
+    pub n_particles: usize,
+    pub phi_actual: f64,
+    pub strain_to_steady: f64,
+    pub mean_overlap: f64,
+    pub shear_rate: f64,
+    #[serde(rename = "kT")]
+    pub kt: f64,
+    pub sigma_xy: f64,
+    pub sigma_xy_se: f64,
+    #[serde(rename = "P")]
+    pub p: f64,
+    #[serde(rename = "P_se")]
+    pub p_se: f64,
+    pub eta_r: f64,
+    pub eta_r_se: f64,
+    pub mu: f64,
+    pub mu_se: f64,
+    #[serde(rename = "J")]
+    pub j: f64,
+    #[serde(rename = "J_se")]
+    pub j_se: f64,
+    pub eta_r_bins: f64,
+    pub eta_r_bins_se: f64,
+    pub eta_r_contact: f64,
+    pub eta_r_contact_se: f64,
+    pub eta_r_hydrodynamic: f64,
+    pub eta_r_hydrodynamic_se: f64,
+    pub eta_r_drag: f64,
+    pub eta_r_drag_se: f64,
+    pub eta_r_brownian: f64,
+    pub eta_r_brownian_se: f64,
+    pub alpha: Option<f64>,
+    pub alpha_actual: Option<f64>,
+    pub peclet_c: Option<f64>,
+    pub peclet_cg: Option<f64>,
+    pub rho: f64,
+    pub tau_i_over_tau_b: Option<f64>,
+}
+
+impl FlowCurveRow {
+    /// The line of `point`.
+    pub fn of(point: &FlowPoint) -> Self {
+        let (s, r, p) = (&point.summary, &point.rheology, &point.point);
+        let c = s.composition;
+        let [contact, hydrodynamic, drag, brownian] = p.parts;
+        FlowCurveRow {
+            scene_id: point.id.clone(),
+            phi: p.phi,
+            peclet: p.state.peclet,
+            mu_p: p.state.mu_p,
+            seed: p.seed,
+            n_particles: s.n_particles,
+            phi_actual: s.phi_actual,
+            strain_to_steady: s.strain_to_steady,
+            mean_overlap: s.mean_overlap,
+            shear_rate: r.shear_rate,
+            kt: point.kt,
+            sigma_xy: r.sigma_xy.mean,
+            sigma_xy_se: r.sigma_xy.se,
+            p: r.p.mean,
+            p_se: r.p.se,
+            eta_r: r.eta_r.mean,
+            eta_r_se: r.eta_r.se,
+            mu: r.mu.mean,
+            mu_se: r.mu.se,
+            j: r.j.mean,
+            j_se: r.j.se,
+            eta_r_bins: p.eta_r_bins.0,
+            eta_r_bins_se: p.eta_r_bins.1,
+            eta_r_contact: contact.0,
+            eta_r_contact_se: contact.1,
+            eta_r_hydrodynamic: hydrodynamic.0,
+            eta_r_hydrodynamic_se: hydrodynamic.1,
+            eta_r_drag: drag.0,
+            eta_r_drag_se: drag.1,
+            eta_r_brownian: brownian.0,
+            eta_r_brownian_se: brownian.1,
+            alpha: c.map(|c| c.alpha),
+            alpha_actual: c.map(|c| c.alpha_actual),
+            peclet_c: c.and_then(|c| c.peclet_c),
+            peclet_cg: c.and_then(|c| c.peclet_cg),
+            rho: p.state.rho,
+            tau_i_over_tau_b: point.inertia_diffusion,
+        }
+    }
+
+    /// Writes the lines of `points` to `path` (whole).
+    pub fn write_all(path: &Path, points: &[FlowPoint]) -> Result<()> {
+        let err = |e: String| RheometryError::File {
+            path: path.display().to_string(),
+            message: e,
+        };
+        let mut table = csv::Writer::from_writer(Vec::new());
+        for p in points {
+            table
+                .serialize(Self::of(p))
+                .map_err(|e| err(e.to_string()))?;
+        }
+        let bytes = table.into_inner().map_err(|e| err(e.to_string()))?;
+        Ok(schema::write_atomic(path, &bytes)?)
+    }
+
+    /// The lines of the table at `path`.
+    pub fn read_all(path: &Path) -> Result<Vec<FlowCurveRow>> {
+        let err = |e: csv::Error| RheometryError::File {
+            path: path.display().to_string(),
+            message: format!("not a flow-curve table: {e}"),
+        };
+        csv::Reader::from_path(path)
+            .map_err(err)?
+            .deserialize()
+            .collect::<std::result::Result<_, _>>()
+            .map_err(err)
+    }
+}

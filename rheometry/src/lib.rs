@@ -1,0 +1,14 @@
+//! What finished runs measure (docs/physics.md sections 10 and 11), above the simulator
+//! (`sim`, which runs them) and the fits (`surrogate::rheology`): the Green-Kubo
+//! viscosity of a run at rest with its extrapolation ([`GreenKuboResult`]), and the points
+//! of the flow curves of a grid of homogeneous-shear runs, read from the runs' folders
+//! ([`FlowRuns`], one [`FlowCurveRow`] each in `flow_curves.csv`). Each result is written
+//! by one writer and read back by the same type; the command line and Python render them.
+
+pub mod error;
+pub mod flow_points;
+pub mod green_kubo;
+
+pub use error::{Result, RheometryError};
+pub use flow_points::{FlowCurveRow, FlowPoint, FlowRuns, PARTS};
+pub use green_kubo::GreenKuboResult;

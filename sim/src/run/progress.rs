@@ -1,0 +1,169 @@
+//! Where a run is, and the progress lines of a run whose output is not a terminal (a batch
+//! job's log): one line every few percent or every few minutes, whichever comes first,
+//! with the step, the clock and an estimate of the time left.
+use serde::{Deserialize, Serialize};
+use std::time::{Duration, Instant};
+
+/// The two phases of a run: reaching the state to sample (the steady state, or a Brownian
+/// warm-up), then sampling it.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Phase {
+    Equilibrating,
+    Averaging,
+}
+
+/// Progress report, once per sample.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    pub phase: Phase,
+    /// The run's clock: strain, or Brownian times `tau_B` without flow.
+    pub strain: f64,
+    /// Budget (steady run) or length (warm-up) of the equilibration, in units of the clock.
+    pub max_strain: f64,
+    pub snapshots: usize,
+    pub snapshots_target: usize,
+    pub step: u64,
+    /// Samples taken since the run began (equilibration and averaging, counting those
+    /// before a resume): 1 at the first call.
+    pub samples: u64,
+}
+
+impl Progress {
+    /// The fraction of the phase done, in [0, 1]: the clock over the equilibration's budget
+    /// (a steady run may finish it sooner), or the snapshots over their target.
+    pub fn fraction(&self) -> f64 {
+        let f = match self.phase {
+            Phase::Equilibrating => self.strain / self.max_strain,
+            Phase::Averaging => self.snapshots as f64 / self.snapshots_target.max(1) as f64,
+        };
+        if f.is_finite() {
+            f.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// What the run is doing, e.g. `equilibrating: strain 1.25 of budget 30.0` or
+    /// `averaging: snapshot 120 / 1000`.
+    pub fn describe(&self) -> String {
+        match self.phase {
+            Phase::Equilibrating => format!(
+                "equilibrating: strain {:.2} of budget {:.1}",
+                self.strain, self.max_strain
+            ),
+            Phase::Averaging => format!(
+                "averaging: snapshot {} / {}",
+                self.snapshots, self.snapshots_target
+            ),
+        }
+    }
+}
+
+/// Decides when a progress line is due: every `percent` percent of a phase and at least
+/// every `interval`, whichever comes first (and at each change of phase).
+pub struct ProgressLines {
+    percent: f64,
+    interval: Duration,
+    last_line: Instant,
+    last: Option<(Phase, f64)>,
+    phase_started: Instant,
+}
+
+impl ProgressLines {
+    /// A line every `percent` percent of a phase, and at least every `interval`.
+    pub fn new(percent: f64, interval: Duration) -> Self {
+        ProgressLines {
+            percent,
+            interval,
+            last_line: Instant::now(),
+            last: None,
+            phase_started: Instant::now(),
+        }
+    }
+
+    /// The line for `p` when one is due: what the run does, its step and clock, the time
+    /// in the phase and the time left at the phase's pace so far.
+    pub fn line(&mut self, p: &Progress) -> Option<String> {
+        let fraction = p.fraction();
+        let due = match self.last {
+            None => true,
+            Some((phase, _)) if phase != p.phase => {
+                self.phase_started = Instant::now();
+                true
+            }
+            Some((_, done)) => {
+                100.0 * (fraction - done) >= self.percent
+                    || self.last_line.elapsed() >= self.interval
+            }
+        };
+        if !due {
+            return None;
+        }
+        self.last = Some((p.phase, fraction));
+        self.last_line = Instant::now();
+        let spent = self.phase_started.elapsed().as_secs_f64();
+        let left = if fraction > 0.0 && fraction < 1.0 {
+            format!(
+                ", about {} left",
+                describe_seconds(spent * (1.0 - fraction) / fraction)
+            )
+        } else {
+            String::new()
+        };
+        Some(format!(
+            "{} ({:.0} %), step {}, {} in this phase{left}",
+            p.describe(),
+            100.0 * fraction,
+            p.step,
+            describe_seconds(spent)
+        ))
+    }
+}
+
+/// A duration for a log: `42 s`, `12.5 min`, `3.2 h`.
+pub fn describe_seconds(s: f64) -> String {
+    if s < 120.0 {
+        format!("{s:.0} s")
+    } else if s < 7200.0 {
+        format!("{:.1} min", s / 60.0)
+    } else {
+        format!("{:.1} h", s / 3600.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(phase: Phase, strain: f64, snapshots: usize) -> Progress {
+        Progress {
+            phase,
+            strain,
+            max_strain: 10.0,
+            snapshots,
+            snapshots_target: 200,
+            step: 7,
+            samples: 1,
+        }
+    }
+
+    #[test]
+    fn lines_come_every_few_percent_and_at_a_change_of_phase() {
+        let mut lines = ProgressLines::new(10.0, Duration::from_secs(3600));
+        assert!(lines.line(&at(Phase::Equilibrating, 0.1, 0)).is_some());
+        assert!(lines.line(&at(Phase::Equilibrating, 0.5, 0)).is_none());
+        let line = lines.line(&at(Phase::Equilibrating, 1.2, 0)).unwrap();
+        assert!(
+            line.contains("strain 1.20 of budget 10.0 (12 %), step 7"),
+            "{line}"
+        );
+        assert!(lines.line(&at(Phase::Averaging, 3.0, 1)).is_some());
+        assert!(lines.line(&at(Phase::Averaging, 3.0, 20)).is_none());
+        assert!(lines.line(&at(Phase::Averaging, 3.0, 21)).is_some());
+        // Without progress, a line at least every interval.
+        let mut slow = ProgressLines::new(10.0, Duration::ZERO);
+        assert!(slow.line(&at(Phase::Averaging, 0.0, 1)).is_some());
+        assert!(slow.line(&at(Phase::Averaging, 0.0, 1)).is_some());
+    }
+}

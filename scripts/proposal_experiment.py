@@ -115,6 +115,46 @@ def mu_noise(table):
     ])
 
 
+def verdict(summary, arms):
+    """The change of each arm's mean band width against before, over all candidates and over
+    those the arm did not add, and how the proposed arm ranks among the random ones."""
+    before = summary[0]["all"]
+    change = {}
+    for arm, s in zip(arms, summary[1:]):
+        change[arm] = (s["all"] / before - 1, s["not_added_by_arm"] / s["not_added_by_arm_before"] - 1)
+    randoms = [a for a in arms if a != "proposed"]
+    out = ["\nChange of the mean relative band width against the shipped models, over all "
+           "candidates / over those the arm did not add:\n"]
+    out += [f"- `{a}`: {100 * c[0]:+.1f} % / {100 * c[1]:+.1f} %" for a, c in change.items()]
+    if "proposed" in change and randoms:
+        for k, what in enumerate(["all candidates", "the candidates each arm did not add"]):
+            p = change["proposed"][k]
+            r = [change[a][k] for a in randoms]
+            beaten = sum(1 for x in r if p < x)
+            out.append(
+                f"\nOver {what}: `proposed` {100 * p:+.1f} %, the {len(r)} random draws "
+                f"{100 * min(r):+.1f} to {100 * max(r):+.1f} % (mean {100 * mean(r):+.1f} %); "
+                f"the proposed scenes narrowed the bands more than {beaten} of {len(r)} draws."
+            )
+    return out
+
+
+def code_versions(args, arms):
+    """Which code made the added runs (their datasets' `code_version`), the retrained models
+    and the shipped ones (their `bands.json`): (what, versions) pairs."""
+    runs, models = [], []
+    for arm in arms:
+        with open(os.path.join(args.out, "datasets", f"{arm}.csv")) as f:
+            runs.append(next(csv.DictReader(f))["code_version"])
+        with open(os.path.join(args.out, "models", arm, "bands.json")) as f:
+            models.append(json.load(f).get("code_version", "?"))
+    with open(os.path.join(args.models, "bands.json")) as f:
+        shipped = json.load(f).get("code_version", "?")
+    return [("added runs", ", ".join(sorted(set(runs)))),
+            ("retrained models and rankings", ", ".join(sorted(set(models)))),
+            ("shipped models", shipped)]
+
+
 def mean(values):
     values = [v for v in values if v == v]
     return sum(values) / len(values) if values else float("nan")
@@ -198,6 +238,7 @@ def main():
             f"| {label} | {all_mean:.4f} | {rest:.4f} | {own_text} | "
             f"{w[0]:.4f} | {w[1]:.4f} | {w[2]:.4f} |"
         )
+    lines += verdict(summary, list(arms))
     shipped = margins(args.models)
     lines += [
         "\nWhere the change comes from: a band is its margin (from the held-out scores, "
@@ -226,6 +267,17 @@ def main():
             status = [r["status"] for r in csv.DictReader(f)]
         lines.append(f"- `{arm}` ({status.count('done')} of {len(status)} runs done): "
                      + "; ".join(f"`{p}` at phi {phi}" for p, phi in cases))
+    lines += [
+        "\nMade, and re-made, by the command below: a step whose output exists is skipped. The "
+        "added runs are kept (`datasets/<arm>.csv`, with their run and ensemble tables), so "
+        "from a checkout it merges, trains and ranks again, and simulates nothing:\n",
+        "```sh",
+        "nice -n 5 python3 " + " ".join(sys.argv),
+        "```\n",
+        "Code: " + "; ".join(
+            f"{what} {version}" for what, version in code_versions(args, list(arms))
+        ) + ".",
+    ]
     with open(os.path.join(args.out, "README.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     with open(os.path.join(args.out, "results.json"), "w") as f:

@@ -120,9 +120,10 @@ fn quick_report_on_tiny_scenes_has_every_section_and_names_failures() {
         }
     }
 
-    // Section 3: one row per scene and mapping output, each with a finite surrogate error.
+    // Section 3: one row per scene and mapping output (mu: mu; theta, dv and ext: phi_loc
+    // and mu), each with a finite surrogate error.
     let side = rows(&md, "| tiny_");
-    assert_eq!(side.len(), 4 * 5);
+    assert_eq!(side.len(), 4 * 7);
     assert!(side.iter().all(|r| percent(r[3]).is_finite()));
 
     // Section 4.

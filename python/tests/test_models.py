@@ -35,8 +35,9 @@ def test_predict_matches_the_command(root, run_suspflow, mapping):
             assert (result[f"{output}_lower"] <= result[f"{output}_pred"]).all()
             assert (result[f"{output}_pred"] <= result[f"{output}_upper"]).all()
     assert from_path.attrs["level"] == 0.9
-    # The validation flows reach beyond the training domain in a few rows.
-    assert 0 < (~from_path["in_domain"]).sum() < 10
+    # The validation flows reach beyond the training domain in a few rows (1-3 for the local
+    # mappings, 10 for ext, whose d_ext axis is linear), most lie inside.
+    assert 0 < (~from_path["in_domain"]).sum() < len(from_path) // 4
 
 
 def test_validate_matches_the_command(root, run_suspflow, tmp_path):

@@ -4,6 +4,7 @@
 //! the helpers the commands share. Physics notes: `docs/physics.md`.
 
 pub mod commands;
+mod cv_sections;
 mod ensemble_table;
 pub mod exit_status;
 mod interrupt;

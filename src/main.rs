@@ -47,6 +47,8 @@ enum Command {
     Predict(commands::predict::Args),
     /// Predict a scene's steady profile from its forcing alone (momentum balance + closure).
     Solve(commands::solve::Args),
+    /// Rank candidate scenes by the width of their solved profiles' bands; write the widest as a grid.
+    Propose(commands::propose::Args),
     /// Compare XGBoost, the physics backbone and both, leaving one profile family out at a time.
     CrossValidate(commands::cross_validate::Args),
     /// Measure the trained mappings on unseen flow profiles; write the figures.
@@ -88,6 +90,7 @@ fn run() -> anyhow::Result<()> {
         Command::Train(args) => commands::train::run(args),
         Command::Predict(args) => commands::predict::run(args),
         Command::Solve(args) => commands::solve::run(args),
+        Command::Propose(args) => commands::propose::run(args),
         Command::CrossValidate(args) => commands::cross_validate::run(args),
         Command::Validate(args) => commands::validate::run(args),
         Command::BenchPredict(args) => commands::bench_predict::run(args),

@@ -17,6 +17,16 @@ pub fn errors_by_output<S: AsRef<str>>(outputs: &[S], errors: &[f64]) -> String 
     pairs.join(", ")
 }
 
+/// `name width` pairs in the outputs' units, e.g. `phi_loc 0.0301, mu 0.205`.
+pub fn widths_by_output<S: AsRef<str>>(outputs: &[S], widths: &[f64]) -> String {
+    let pairs: Vec<String> = outputs
+        .iter()
+        .zip(widths)
+        .map(|(o, &w)| format!("{} {w:.3}", o.as_ref()))
+        .collect();
+    pairs.join(", ")
+}
+
 /// The settings a grid search varies, e.g. `300 rounds, depth 3, eta 0.1, min_child_weight 1`,
 /// prefixed by `backbone + ` when the trees learn the backbone's residual.
 pub fn describe(params: &HyperParameters) -> String {

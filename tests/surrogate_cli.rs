@@ -264,7 +264,7 @@ fn train_then_predict_reproduces_a_smooth_law() {
     // the training-domain columns.
     assert_eq!(
         text.lines().next().unwrap(),
-        format!("{HEADER},mu_pred,in_domain,domain_distance")
+        format!("{HEADER},mu_pred,mu_lower,mu_upper,in_domain,domain_distance")
     );
     let input = std::fs::read_to_string(&data).unwrap();
     for (out_line, in_line) in text.lines().zip(input.lines()).skip(1) {
@@ -417,7 +417,15 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
                 r.as_object().unwrap().keys().map(String::as_str).collect();
             assert_eq!(
                 fields,
-                BTreeSet::from(["mapping", "output", "profile", "rel_l2"]),
+                BTreeSet::from([
+                    "mapping",
+                    "output",
+                    "profile",
+                    "rel_l2",
+                    "beyond_noise",
+                    "coverage",
+                    "interval_width"
+                ]),
                 "{r}"
             );
             let e = r["rel_l2"].as_f64().unwrap();
@@ -433,6 +441,8 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
         ("theta", "mu"),
         ("dv", "phi_loc"),
         ("dv", "mu"),
+        ("ext", "phi_loc"),
+        ("ext", "mu"),
     ] {
         for p in [SIN_COS, SIN3, "all"] {
             expected.insert((m.to_owned(), o.to_owned(), p.to_owned()));
@@ -469,7 +479,7 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
         .skip(1)
         .map(|l| l.contains(SIN_COS))
         .collect();
-    for m in ["mu", "theta", "dv"] {
+    for m in ["mu", "theta", "dv", "ext"] {
         let pred = dir.join(format!("{m}.pred.csv"));
         suspflow_ok(&[
             "predict",
@@ -513,6 +523,23 @@ fn validate_json_matches_an_independent_computation_with_the_training_ranges() {
                     "{m} {o} {profile}: {got} vs {expected}"
                 );
             }
+            // The intervals' coverage, from predict's bounds.
+            let (lower, upper) = (
+                numbers(&predicted_text, &format!("{o}_lower")),
+                numbers(&predicted_text, &format!("{o}_upper")),
+            );
+            let inside = (0..truth.len())
+                .filter(|&i| lower[i] <= truth[i] && truth[i] <= upper[i])
+                .count();
+            let coverage = records
+                .iter()
+                .find(|r| r["mapping"] == m && r["output"] == o && r["profile"] == "all")
+                .unwrap()["coverage"]
+                .as_f64()
+                .unwrap();
+            assert_eq!(coverage, inside as f64 / truth.len() as f64, "{m} {o}");
+            assert!(lower.iter().zip(&predicted).all(|(l, p)| l <= p));
+            assert!(upper.iter().zip(&predicted).all(|(u, p)| u >= p));
             // The validation set's own ranges would give another number.
             let (lo, hi) = truth
                 .iter()
@@ -729,7 +756,8 @@ fn empty_cells_are_skipped_and_counted_per_mapping() {
         .iter()
         .filter(|r| !r["profile"].as_str().unwrap().contains("domain"))
         .count();
-    assert_eq!(by_profile, 15);
+    // mu: one output on 2 profiles and all; theta, dv and ext: two each.
+    assert_eq!(by_profile, 21);
     // A NaN written out is not an undefined value: it is refused, naming the row.
     let nan = write(
         &dir,

@@ -1,12 +1,13 @@
 //! `predict` and `validate` with trained models, as `suspflow predict` and `suspflow
 //! validate --json` compute them: the tree walk of `surrogate::Predictor` with the
-//! training-domain check and the clipping into the physical range, and
-//! `surrogate::Validation`'s relative L2 errors per mapping, output and profile (eq 6.6).
+//! training-domain check, the clipping into the physical range and the intervals, and
+//! `surrogate::Validation`'s relative L2 errors per mapping, output and profile (eq 6.6),
+//! their part beyond noise and the intervals' coverage (`surrogate::records`).
 use crate::dataset::{dataset, Table};
 use crate::error::Error;
 use pyo3::prelude::*;
 use std::path::PathBuf;
-use surrogate::{Mapping, Predictor, TrainedModel, Validation};
+use surrogate::{records as records_of, Mapping, Predictor, TrainedModel, Validation};
 
 /// Predictions of one mapping for every row of a table.
 #[pyclass(module = "suspflow._native", frozen, get_all)]
@@ -23,41 +24,68 @@ pub struct Predictions {
     pub domain_distance: Vec<f64>,
     /// Predicted values that left their physical range and were clipped.
     pub clipped: usize,
+    /// The intervals' level, and per output one list of lower and one of upper bounds per
+    /// row; `None` for a model saved without intervals.
+    pub level: f64,
+    pub lower: Option<Vec<Vec<f64>>>,
+    pub upper: Option<Vec<Vec<f64>>>,
 }
 
 /// Predictions of the model `dir/<mapping>.json` (+ `.meta.json`) for `table` (a CSV path or
-/// CSV bytes holding the mapping's feature columns).
+/// CSV bytes holding the mapping's feature columns), with their intervals at `level`.
 #[pyfunction]
-pub fn predict(dir: PathBuf, mapping: &str, table: Table) -> Result<Predictions, Error> {
+#[pyo3(signature = (dir, mapping, table, level = surrogate::DEFAULT_LEVEL))]
+pub fn predict(
+    dir: PathBuf,
+    mapping: &str,
+    table: Table,
+    level: f64,
+) -> Result<Predictions, Error> {
     let model = Predictor::load(&dir, mapping)?;
     let data = dataset(table)?;
-    let (predicted, clipped) = model.predict_counting_clips(&data)?;
+    let prediction = model.predict_with_intervals(&data, level)?;
     let domain = model.check_domain(&data)?;
+    let columns = |a: &ndarray::Array2<f64>| -> Vec<Vec<f64>> {
+        a.columns().into_iter().map(|c| c.to_vec()).collect()
+    };
     Ok(Predictions {
         outputs: model.meta().outputs.clone(),
-        values: predicted
-            .columns()
-            .into_iter()
-            .map(|c| c.to_vec())
-            .collect(),
+        values: columns(&prediction.values),
         in_domain: domain.iter().map(|c| c.inside()).collect(),
         in_range: domain.iter().map(|c| c.in_range).collect(),
         domain_distance: domain.iter().map(|c| c.distance).collect(),
-        clipped,
+        clipped: prediction.clipped,
+        level,
+        lower: prediction.intervals.as_ref().map(|i| columns(&i.lower)),
+        upper: prediction.intervals.as_ref().map(|i| columns(&i.upper)),
     })
 }
 
+/// One record of [`validate`]: mapping, output, profile, rel_l2, beyond_noise, coverage,
+/// interval_width (the last three `None` where unknown).
+type ValidationRecord = (
+    String,
+    String,
+    String,
+    f64,
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+);
+
 /// Relative L2 errors (eq 6.6, outputs min-max scaled with the training ranges) of the models
-/// in `dir` (the mappings named, all when empty) on `table`: records (mapping, output,
-/// profile, rel_l2), per profile and for the in- and out-of-domain rows, in the order of
-/// `suspflow validate --json`.
+/// in `dir` (the mappings named, all when empty) on `table`, their part beyond the targets'
+/// own noise, and the coverage and mean width of the intervals at `level`: records
+/// (mapping, output, profile, rel_l2, beyond_noise, coverage, interval_width), per profile
+/// and for the in- and out-of-domain rows, in the order of `suspflow validate --json`.
 #[pyfunction]
-#[pyo3(signature = (dir, table, mappings = Vec::new()))]
+#[pyo3(signature = (dir, table, mappings = Vec::new(), level = surrogate::DEFAULT_LEVEL))]
 pub fn validate(
     dir: PathBuf,
     table: Table,
     mappings: Vec<String>,
-) -> Result<Vec<(String, String, String, f64)>, Error> {
+    level: f64,
+) -> Result<Vec<ValidationRecord>, Error> {
     let data = dataset(table)?;
     let mut records = Vec::new();
     for mapping in Mapping::select(&mappings)? {
@@ -67,18 +95,19 @@ pub fn validate(
                 e,
             )
         })?;
-        let validation = Validation::run(&model, &data)
+        let validation = Validation::run_at(&model, &data, level)
             .map_err(|e| Error::context(format!("validating model `{}`", mapping.name), e))?;
-        for (j, output) in mapping.outputs.iter().enumerate() {
-            for error in validation.errors.iter().chain(&validation.domain_errors) {
-                records.push((
-                    mapping.name.to_owned(),
-                    output.to_string(),
-                    error.profile.clone(),
-                    error.per_output[j],
-                ));
-            }
-        }
+        records.extend(records_of(mapping, &validation).into_iter().map(|r| {
+            (
+                r.mapping.to_owned(),
+                r.output.to_owned(),
+                r.profile.to_owned(),
+                r.rel_l2,
+                r.beyond_noise,
+                r.coverage,
+                r.interval_width,
+            )
+        }));
     }
     Ok(records)
 }

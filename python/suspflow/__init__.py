@@ -165,21 +165,34 @@ def _model_path(model: PathLike, mapping: Optional[str]) -> tuple:
     return os.fspath(path.parent), name
 
 
-def predict(model: PathLike, data: TableLike, mapping: Optional[str] = None) -> pd.DataFrame:
+def predict(
+    model: PathLike, data: TableLike, mapping: Optional[str] = None, *, level: float = 0.9
+) -> pd.DataFrame:
     """A trained mapping's predictions for every row of ``data`` (a DataFrame or a CSV path
     with the mapping's feature columns), as ``suspflow predict``: the model is
     ``DIR/<mapping>`` (e.g. ``models/dv``) or ``DIR`` with ``mapping``. Returns the input
     columns, one ``<output>_pred`` column per output (``phi_loc`` dimensionless, clipped into
-    0 < phi_loc < 0.74; ``mu`` dimensionless, >= 0), ``in_domain`` (whether the row lies in the
-    model's training domain) and ``domain_distance`` (distance to the nearest training rows in
-    units of the domain's threshold; <= 1 is near enough). ``attrs["clipped"]`` counts the
-    clipped values; warnings say how many rows lie outside the domain."""
+    0 < phi_loc < 0.74; ``mu`` dimensionless, >= 0), the interval of each at ``level``
+    (``<output>_lower``, ``<output>_upper``: the bounds between which the output of a row of a
+    new flow lies with probability ``level``, calibrated on profile families the model did
+    not see; absent, with a warning, for a model saved without intervals), ``in_domain``
+    (whether the row lies in the model's training domain) and ``domain_distance`` (distance
+    to the nearest training rows in units of the domain's threshold; <= 1 is near enough).
+    ``attrs["clipped"]`` counts the clipped values, ``attrs["level"]`` is the intervals'
+    level; warnings say how many rows lie outside the domain."""
     directory, name = _model_path(model, mapping)
     table = data if isinstance(data, pd.DataFrame) else read_dataset(data)
-    p = _native.predict(directory, name, _table(data))
+    p = _native.predict(directory, name, _table(data), level)
     result = table.copy()
     for output, values in zip(p.outputs, p.values):
         result[f"{output}_pred"] = np.asarray(values)
+    if p.lower is None:
+        warnings.warn(f"`{name}` was saved without intervals: predictions without error bars")
+    else:
+        for output, lower, upper in zip(p.outputs, p.lower, p.upper):
+            result[f"{output}_lower"] = np.asarray(lower)
+            result[f"{output}_upper"] = np.asarray(upper)
+    result.attrs["level"] = p.level
     result["in_domain"] = np.asarray(p.in_domain, dtype=bool)
     result["domain_distance"] = np.asarray(p.domain_distance)
     result.attrs["clipped"] = p.clipped
@@ -197,16 +210,29 @@ def predict(model: PathLike, data: TableLike, mapping: Optional[str] = None) -> 
 
 
 def validate(
-    models: PathLike, data: TableLike, mappings: Optional[Sequence[str]] = None
+    models: PathLike,
+    data: TableLike,
+    mappings: Optional[Sequence[str]] = None,
+    *,
+    level: float = 0.9,
 ) -> pd.DataFrame:
-    """The trained mappings (all of ``mu``, ``theta``, ``dv`` in ``models`` unless
+    """The trained mappings (all of ``mu``, ``theta``, ``dv``, ``ext`` in ``models`` unless
     ``mappings`` names some) on a validation table (per-run or ensemble table, DataFrame or
     path): one row per mapping, output and profile (the ``profile`` column, then all
     profiles together and the rows inside and outside the training domain) with ``rel_l2``,
     the relative L2 error of eq 6.6 on outputs min-max scaled with the training ranges (a
-    fraction, not a percent): the records of ``suspflow validate --json``."""
-    records = _native.validate(os.fspath(models), _table(data), list(mappings or []))
-    return pd.DataFrame(records, columns=["mapping", "output", "profile", "rel_l2"])
+    fraction, not a percent), ``beyond_noise`` (its part beyond the targets' own noise,
+    ``sqrt(max(0, rel_l2^2 - noise^2))``; NaN without standard errors), ``coverage`` (the
+    fraction of the rows inside their interval at ``level``) and ``interval_width`` (the
+    intervals' mean width, output units): the records of ``suspflow validate --json``."""
+    records = _native.validate(os.fspath(models), _table(data), list(mappings or []), level)
+    columns = [
+        "mapping", "output", "profile", "rel_l2", "beyond_noise", "coverage", "interval_width"
+    ]
+    frame = pd.DataFrame(records, columns=columns)
+    for c in columns[4:]:
+        frame[c] = frame[c].astype(float)
+    return frame
 
 
 def read_dataset(path: PathLike) -> pd.DataFrame:
@@ -246,6 +272,7 @@ def solve(
     *,
     train: Optional[PathLike] = None,
     p_start: float = 0.1,
+    level: float = 0.9,
 ) -> pd.DataFrame:
     """The steady profile of a scene from its forcing alone (``suspflow solve``): bin
     velocities ``u`` (a/time) and one pressure ``P`` (eta/time) that balance the face stress
@@ -253,19 +280,32 @@ def solve(
     (``u_inf`` averaged over each bin) with ``mean(phi_loc) = phi`` (docs/physics.md section
     8), closed by ``closure``:
     ``"learned"`` (the ``dv`` model in ``models``), ``"local"`` (the local rheology fitted
-    on ``train``, by default the ``dv`` model's training data) or ``"nonlocal"`` (the
-    ``theta`` model with the Theta balance fitted on the same data). Newton iterations start
-    from ``p_start`` (eta/time), continued from the local law where they stall. Returns one
-    row per bin with the columns of ``suspflow solve``'s profile.csv (``scene_id``,
-    ``profile``, ``L_y``, ``phi``, ``y``, ``u_inf``, ``u``, ``gdot``, ``sigma_xy``, ``P``,
-    ``phi_loc``, ``J``, ``mu``, ``Theta`` (NaN unless nonlocal), ``Delta_v``, ``f_x``,
-    ``in_domain``, ``domain_distance``); ``attrs`` holds ``iterations``, ``continued``,
-    ``residual`` (largest balance residual in units of the forcing's drag density) and
-    ``pressure``."""
+    on ``train``, by default the ``dv`` model's training data), ``"nonlocal"`` (the
+    ``theta`` model with the Theta balance fitted on the same data) or ``"extremum"`` (the
+    ``ext`` model, whose input ``d_ext`` is each bin's distance to the nearest velocity
+    extremum of the solved profile). Newton iterations start from ``p_start`` (eta/time),
+    continued from the local law where they stall. Returns one row per bin with the columns
+    of ``suspflow solve``'s profile.csv (``scene_id``, ``profile``, ``L_y``, ``phi``, ``y``,
+    ``u_inf``, ``u``, ``gdot``, ``sigma_xy``, ``P``, ``phi_loc``, ``J``, ``mu``, ``Theta``
+    (NaN unless nonlocal), ``Delta_v``, ``f_x``, ``d_ext``, the bands at ``level``
+    ``u_lower``, ``u_upper``, ``phi_loc_lower``, ``phi_loc_upper``, ``mu_lower``,
+    ``mu_upper`` (where the simulated profile lies with probability ``level`` bin by bin,
+    calibrated on families the models did not see; absent, with a warning, when the models
+    have no ``bands.json``), ``in_domain``, ``domain_distance``); ``attrs`` holds
+    ``iterations``, ``continued``, ``residual`` (largest balance residual in units of the
+    forcing's drag density), ``pressure`` and ``bands`` (level, margins, relative widths and
+    held-out coverage, as summary.json's, or None)."""
     scene = read_scene(scene)
     s = _native.solve(
-        scene, os.fspath(models), closure, None if train is None else os.fspath(train), p_start
+        scene,
+        os.fspath(models),
+        closure,
+        None if train is None else os.fspath(train),
+        p_start,
+        level,
     )
+    if s.bands_missing is not None:
+        warnings.warn(f"the profile has no bands: {s.bands_missing}")
     file = json.loads(scene.to_json())
     n = len(s.columns[0][1])
     frame = pd.DataFrame({"scene_id": [file["name"]] * n, "profile": [file["fluid"]["profile"]] * n})
@@ -274,6 +314,10 @@ def solve(
     frame["in_domain"] = np.asarray(s.in_domain)
     frame["domain_distance"] = np.asarray(s.domain_distance)
     frame.attrs.update(
-        iterations=s.iterations, continued=s.continued, residual=s.residual, pressure=s.pressure
+        iterations=s.iterations,
+        continued=s.continued,
+        residual=s.residual,
+        pressure=s.pressure,
+        bands=None if s.bands is None else json.loads(s.bands),
     )
     return frame

@@ -31,6 +31,9 @@ class Predictions:
     in_range: List[bool]
     domain_distance: List[float]
     clipped: int
+    level: float
+    lower: Optional[List[List[float]]]
+    upper: Optional[List[List[float]]]
 
 class Solution:
     columns: List[Tuple[str, List[float]]]
@@ -40,6 +43,8 @@ class Solution:
     continued: bool
     residual: float
     pressure: float
+    bands: Optional[str]
+    bands_missing: Optional[str]
 
 Table = Union[bytes, str]
 """A CSV path, or the bytes of a CSV text."""
@@ -55,10 +60,12 @@ def simulate(
 ) -> str:
     """Runs `scene` into the run folder `out` (continuing its checkpoint unless `fresh`); returns summary.json's text."""
 
-def predict(dir: str, mapping: str, table: Table) -> Predictions: ...
+def predict(dir: str, mapping: str, table: Table, level: float = 0.9) -> Predictions: ...
 def validate(
-    dir: str, table: Table, mappings: Sequence[str] = ...
-) -> List[Tuple[str, str, str, float]]: ...
+    dir: str, table: Table, mappings: Sequence[str] = ..., level: float = 0.9
+) -> List[
+    Tuple[str, str, str, float, Optional[float], Optional[float], Optional[float]]
+]: ...
 def read_dataset(
     path: str,
 ) -> Tuple[List[Tuple[str, Union[List[float], List[str]]]], Optional[Tuple[str, str]]]: ...
@@ -68,4 +75,5 @@ def solve(
     closure: str = "learned",
     train: Optional[str] = None,
     p_start: float = 0.1,
+    level: float = 0.9,
 ) -> Solution: ...

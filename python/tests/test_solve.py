@@ -1,5 +1,8 @@
-"""solve gives the profile of `suspflow solve` exactly, with both closures, for the first
-validation flow given as a mapping; a homogeneous-shear scene has nothing to solve."""
+"""solve gives the profile of `suspflow solve` exactly, bands included, with every closure, for
+the first validation flow given as a mapping; a homogeneous-shear scene has nothing to
+solve."""
+import json
+
 import pandas as pd
 import pytest
 
@@ -14,7 +17,7 @@ FLOW = {
 }
 
 
-@pytest.mark.parametrize("closure", ["learned", "local", "nonlocal"])
+@pytest.mark.parametrize("closure", ["learned", "local", "nonlocal", "extremum"])
 def test_solve_matches_the_command(root, run_suspflow, tmp_path, closure):
     scene = tmp_path / "flow.toml"
     scene.write_text(
@@ -32,6 +35,12 @@ def test_solve_matches_the_command(root, run_suspflow, tmp_path, closure):
     assert solved.attrs["residual"] < 1e-9
     # mean(phi_loc) = phi closes the balance.
     assert abs(solved["phi_loc"].mean() - 0.54) < 1e-9
+    # The bands hold the solved profile, and summary.json's account of them is the same.
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert solved.attrs["bands"] == summary["bands"]
+    for observable in ["u", "phi_loc", "mu"]:
+        assert (solved[f"{observable}_lower"] <= solved[observable]).all()
+        assert (solved[observable] <= solved[f"{observable}_upper"]).all()
 
 
 def test_a_shear_scene_has_nothing_to_solve(root):

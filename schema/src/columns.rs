@@ -47,6 +47,14 @@ pub const IN_DOMAIN: &str = "in_domain";
 pub const DOMAIN_DISTANCE: &str = "domain_distance";
 /// The suffix of a predicted output's column: `mu_pred` is the prediction of `mu`.
 pub const PREDICTED_SUFFIX: &str = "_pred";
+/// Prediction tables (`predict`, `solve`): the suffixes of an output's interval bounds,
+/// `mu_lower` and `mu_upper` (at the level the command states, 90 % by default).
+pub const LOWER_SUFFIX: &str = "_lower";
+pub const UPPER_SUFFIX: &str = "_upper";
+/// Derived by the surrogate, not written by the simulator: a bin's distance (units a) to the
+/// nearest velocity extremum of its profile, where the bin velocities' differences change
+/// sign (the `ext` mapping's nonlocal input, docs/physics.md section 8).
+pub const EXTREMUM_DISTANCE: &str = "d_ext";
 
 /// Ensemble table: number of replicas averaged in the row.
 pub const REPLICAS: &str = "replicas";

@@ -1,4 +1,5 @@
-//! Closures of the momentum balance: what `(phi_loc, mu)` a local state gives.
+//! Closures of the momentum balance: what `(phi_loc, mu)` a local state gives, and the
+//! interval around it where the closure is a trained mapping with intervals.
 
 use surrogate::{LocalRheology, Mapping, Predictor};
 
@@ -6,8 +7,17 @@ use crate::error::{Result, SolverError};
 use crate::theta_balance::ThetaBalance;
 
 /// Relative half-width of the box over which a learned closure is averaged, for J and its
-/// second feature (Delta_v or Theta).
+/// second feature (Delta_v, Theta or d_ext).
 pub const SMOOTHING: f64 = 0.3;
+
+/// Least half-width (units a) of the box in d_ext: the distance to a velocity extremum goes
+/// to 0 at the faces beside it, where a relative box would shrink to the trees' sharp
+/// splits as the extremum moves.
+pub const EXTREMUM_SMOOTHING_FLOOR: f64 = 0.5;
+
+/// The ends of the intervals of `(phi_loc, mu)`: `[(lower, upper) of phi_loc, (lower,
+/// upper) of mu]`.
+pub type ClosureInterval = [(f64, f64); 2];
 
 /// The local state's second feature, beside J and phi, that a closure reads.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -19,6 +29,9 @@ pub enum Descriptor<'a> {
     /// The suspension temperature Theta (eq 6.1), an unknown of the solve with its own
     /// balance.
     Theta(&'a ThetaBalance),
+    /// The distance to the nearest velocity extremum, d_ext (units a), from the solved `u`
+    /// (`surrogate::data::extremum_distance`).
+    ExtremumDistance,
 }
 
 /// What a closure gives at one local state.
@@ -30,6 +43,18 @@ pub trait Closure {
 
     /// Which second feature [`Closure::evaluate`] reads.
     fn descriptor(&self) -> Descriptor<'_>;
+
+    /// The interval at `level` of `(phi_loc, mu)` at the state of [`Closure::evaluate`];
+    /// `None` for a closure without intervals (the local law, or a model saved without them).
+    fn interval(
+        &self,
+        _j: f64,
+        _descriptor: f64,
+        _phi: f64,
+        _level: f64,
+    ) -> Result<Option<ClosureInterval>> {
+        Ok(None)
+    }
 }
 
 impl Closure for LocalRheology {
@@ -58,11 +83,21 @@ impl LearnedClosure {
 
 impl Closure for LearnedClosure {
     fn evaluate(&self, j: f64, delta_v: f64, phi: f64) -> Result<(f64, f64)> {
-        smoothed(&self.predictor, j, delta_v, phi)
+        smoothed(&self.predictor, &local_box(j, delta_v, phi))
     }
 
     fn descriptor(&self) -> Descriptor<'_> {
         Descriptor::DeltaV
+    }
+
+    fn interval(
+        &self,
+        j: f64,
+        delta_v: f64,
+        phi: f64,
+        level: f64,
+    ) -> Result<Option<ClosureInterval>> {
+        smoothed_interval(&self.predictor, &local_box(j, delta_v, phi), level)
     }
 }
 
@@ -84,15 +119,73 @@ impl NonlocalClosure {
 
 impl Closure for NonlocalClosure {
     fn evaluate(&self, j: f64, theta: f64, phi: f64) -> Result<(f64, f64)> {
-        smoothed(&self.predictor, j, theta, phi)
+        smoothed(&self.predictor, &local_box(j, theta, phi))
     }
 
     fn descriptor(&self) -> Descriptor<'_> {
         Descriptor::Theta(&self.balance)
     }
+
+    fn interval(
+        &self,
+        j: f64,
+        theta: f64,
+        phi: f64,
+        level: f64,
+    ) -> Result<Option<ClosureInterval>> {
+        smoothed_interval(&self.predictor, &local_box(j, theta, phi), level)
+    }
 }
 
-/// Refuses a model that is not of mapping `name`, (J, _, phi) -> (phi_loc, mu).
+/// The closure of the `ext` mapping, (J, phi, d_ext) -> (phi_loc, mu), with d_ext the
+/// distance to the nearest velocity extremum of the solved profile, averaged over a box of
+/// relative half-width [`SMOOTHING`] in J and in d_ext (at least
+/// [`EXTREMUM_SMOOTHING_FLOOR`]).
+pub struct ExtremumClosure {
+    predictor: Predictor,
+}
+
+impl ExtremumClosure {
+    /// Wraps a predictor of the `ext` mapping.
+    pub fn new(predictor: Predictor) -> Result<Self> {
+        check_mapping(&predictor, "ext")?;
+        Ok(ExtremumClosure { predictor })
+    }
+
+    /// The features `(J, phi, d_ext)` and their box.
+    fn inputs(j: f64, d_ext: f64, phi: f64) -> FeatureBox {
+        FeatureBox {
+            x: [j, phi, d_ext],
+            half_width: [
+                SMOOTHING * j,
+                0.0,
+                SMOOTHING * d_ext + EXTREMUM_SMOOTHING_FLOOR,
+            ],
+        }
+    }
+}
+
+impl Closure for ExtremumClosure {
+    fn evaluate(&self, j: f64, d_ext: f64, phi: f64) -> Result<(f64, f64)> {
+        smoothed(&self.predictor, &Self::inputs(j, d_ext, phi))
+    }
+
+    fn descriptor(&self) -> Descriptor<'_> {
+        Descriptor::ExtremumDistance
+    }
+
+    fn interval(
+        &self,
+        j: f64,
+        d_ext: f64,
+        phi: f64,
+        level: f64,
+    ) -> Result<Option<ClosureInterval>> {
+        smoothed_interval(&self.predictor, &Self::inputs(j, d_ext, phi), level)
+    }
+}
+
+/// Refuses a model that is not of mapping `name`, with outputs (phi_loc, mu).
 fn check_mapping(predictor: &Predictor, name: &str) -> Result<()> {
     let meta = predictor.meta();
     let mapping = Mapping::by_name(name)?;
@@ -109,10 +202,40 @@ fn check_mapping(predictor: &Predictor, name: &str) -> Result<()> {
     Ok(())
 }
 
-/// The expected `(phi_loc, mu)` over a box of relative half-width [`SMOOTHING`] in the first
-/// two features (trees are piecewise constant; their box average is continuous).
-fn smoothed(predictor: &Predictor, j: f64, second: f64, phi: f64) -> Result<(f64, f64)> {
-    let out =
-        predictor.expected_outputs(&[j, second, phi], &[SMOOTHING * j, SMOOTHING * second, 0.0])?;
+/// A mapping's three features and the half-widths of the box they are averaged over.
+struct FeatureBox {
+    x: [f64; 3],
+    half_width: [f64; 3],
+}
+
+/// The features of the `dv` and `theta` mappings, `(J, second, phi)`, with a box of relative
+/// half-width [`SMOOTHING`] in the first two.
+fn local_box(j: f64, second: f64, phi: f64) -> FeatureBox {
+    FeatureBox {
+        x: [j, second, phi],
+        half_width: [SMOOTHING * j, SMOOTHING * second, 0.0],
+    }
+}
+
+/// The expected `(phi_loc, mu)` over the box (trees are piecewise constant; their box
+/// average is continuous).
+fn smoothed(predictor: &Predictor, b: &FeatureBox) -> Result<(f64, f64)> {
+    let out = predictor.expected_outputs(&b.x, &b.half_width)?;
     Ok((out[0], out[1]))
+}
+
+/// The interval at `level` of the expected `(phi_loc, mu)` over the box.
+fn smoothed_interval(
+    predictor: &Predictor,
+    b: &FeatureBox,
+    level: f64,
+) -> Result<Option<ClosureInterval>> {
+    Ok(predictor
+        .expected_interval(&b.x, &b.half_width, level)?
+        .map(|i| {
+            [
+                (i.lower[[0, 0]], i.upper[[0, 0]]),
+                (i.lower[[0, 1]], i.upper[[0, 1]]),
+            ]
+        }))
 }

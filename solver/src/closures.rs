@@ -1,17 +1,22 @@
-//! The three closures of a solve, built once from the trained models and their training
-//! data (docs/physics.md section 8), and where a solved profile lies relative to each
-//! closure's training rows. The command line and the Python package both solve through
-//! this.
-use crate::closure::{Closure, LearnedClosure, NonlocalClosure};
+//! The closures of a solve, built once from the trained models and their training data
+//! (docs/physics.md section 8), and where a solved profile lies relative to each closure's
+//! training rows. The command line and the Python package both solve through this.
+use crate::bands::{BandCalibration, ProfileBands};
+use crate::closure::{Closure, ExtremumClosure, LearnedClosure, NonlocalClosure};
 use crate::error::{Result, SolverError};
 use crate::local_fit::fit_local_rheology;
+use crate::problem::ProfileProblem;
 use crate::solution::ProfileSolution;
+use crate::solved_profile::BandSummary;
 use crate::theta_balance::{ThetaBalance, ThetaBalanceFit};
 use ndarray::Array2;
 use schema::columns as col;
 use schema::Observable;
 use std::path::Path;
-use surrogate::{Dataset, DomainCheck, LocalRheology, Mapping, Predictor, Samples, TrainingDomain};
+use surrogate::{
+    Dataset, DomainCheck, LocalRheology, Mapping, ModelMeta, Predictor, Samples, TrainingDomain,
+    DEFAULT_LEVEL,
+};
 
 /// Which closure a solve uses (its discriminant indexes [`ClosureKind::ALL`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -23,13 +28,17 @@ pub enum ClosureKind {
     /// The trained `theta` mapping, (J, Theta, phi) -> (phi_loc, mu), with Theta from its
     /// balance l^2 Theta'' = Theta - c J^beta fitted on the training data.
     Nonlocal,
+    /// The trained `ext` mapping, (J, phi, d_ext) -> (phi_loc, mu), d_ext the distance to the
+    /// nearest velocity extremum of the solved profile.
+    Extremum,
 }
 
 impl ClosureKind {
-    pub const ALL: [ClosureKind; 3] = [
+    pub const ALL: [ClosureKind; 4] = [
         ClosureKind::Learned,
         ClosureKind::Local,
         ClosureKind::Nonlocal,
+        ClosureKind::Extremum,
     ];
 
     pub fn name(self) -> &'static str {
@@ -37,6 +46,17 @@ impl ClosureKind {
             ClosureKind::Learned => "learned",
             ClosureKind::Local => "local",
             ClosureKind::Nonlocal => "nonlocal",
+            ClosureKind::Extremum => "extremum",
+        }
+    }
+
+    /// The trained mapping the closure evaluates; `None` for the local law.
+    pub fn mapping(self) -> Option<&'static str> {
+        match self {
+            ClosureKind::Learned => Some("dv"),
+            ClosureKind::Local => None,
+            ClosureKind::Nonlocal => Some("theta"),
+            ClosureKind::Extremum => Some("ext"),
         }
     }
 
@@ -47,21 +67,34 @@ impl ClosureKind {
             .find(|k| k.name() == name)
             .ok_or_else(|| {
                 SolverError::InvalidArgument(format!(
-                    "unknown closure `{name}` (learned, local or nonlocal)"
+                    "unknown closure `{name}` (learned, local, nonlocal or extremum)"
                 ))
             })
     }
 }
 
-/// The closures, their training domains and the fitted Theta balance.
+/// The closures, their training domains, the fitted Theta balance and the calibration of the
+/// bands of their solves.
 pub struct Closures {
     pub learned: LearnedClosure,
     pub local: LocalRheology,
     pub nonlocal: NonlocalClosure,
+    /// `None` when the models' folder has no `ext` model (trained before it existed).
+    pub extremum: Option<ExtremumClosure>,
     pub theta_fit: ThetaBalanceFit,
     /// Each closure's training domain and its features, in the order of
     /// [`ClosureKind::ALL`].
     domains: Vec<(TrainingDomain, Vec<String>)>,
+    /// The sidecars of the trained mappings (`dv`, `theta`, `ext` if present).
+    metas: Vec<ModelMeta>,
+    /// The models' `bands.json`, if they have one.
+    pub band_calibration: Option<BandCalibration>,
+}
+
+/// The bands of one solve, or why there are none.
+pub enum Bands {
+    Calibrated(Box<(ProfileBands, BandSummary)>),
+    Missing(String),
 }
 
 impl Closures {
@@ -85,27 +118,101 @@ impl Closures {
             &train_data,
             Mapping::by_name("dv")?,
         )?)?;
-        let domains = vec![
+        let ext = match Predictor::load(models, "ext") {
+            Ok(ext) => Some(ext),
+            Err(surrogate::SurrogateError::Io { source, .. })
+                if source.kind() == std::io::ErrorKind::NotFound =>
+            {
+                None
+            }
+            Err(e) => return Err(e.into()),
+        };
+        let metas: Vec<ModelMeta> = [Some(&dv), Some(&theta), ext.as_ref()]
+            .into_iter()
+            .flatten()
+            .map(|p| p.meta().clone())
+            .collect();
+        let mut domains = vec![
             (dv.domain().clone(), dv_features.clone()),
             (local_domain, dv_features),
             (theta.domain().clone(), theta.meta().features.clone()),
         ];
+        if let Some(ext) = &ext {
+            domains.push((ext.domain().clone(), ext.meta().features.clone()));
+        }
         Ok(Closures {
             learned: LearnedClosure::new(dv)?,
             local: fit_local_rheology(&train_data)?,
             nonlocal: NonlocalClosure::new(theta, theta_fit.balance)?,
+            extremum: ext.map(ExtremumClosure::new).transpose()?,
             theta_fit,
             domains,
+            metas,
+            band_calibration: BandCalibration::load(models)?,
         })
     }
 
-    /// The closure of `kind`.
-    pub fn get(&self, kind: ClosureKind) -> &dyn Closure {
-        match kind {
+    /// The bands at `level` of the solution `s` of `problem` with closure `kind`: each bin's
+    /// scale ([`ProfileProblem::band_scales`]) times the margin of the models' calibration;
+    /// [`Bands::Missing`] with the reason when the models have no calibration for it.
+    pub fn bands(
+        &self,
+        kind: ClosureKind,
+        problem: &ProfileProblem,
+        s: &ProfileSolution,
+        level: f64,
+    ) -> Result<Bands> {
+        let Some(calibration) = &self.band_calibration else {
+            return Ok(Bands::Missing(
+                "the models have no bands.json (train writes it when it trains dv and theta \
+                 together)"
+                    .to_owned(),
+            ));
+        };
+        let mapping = kind.mapping().unwrap_or("dv");
+        if let Some(meta) = self.metas.iter().find(|m| m.mapping == mapping) {
+            if let Some(why) = calibration.mismatch(meta) {
+                return Ok(Bands::Missing(why));
+            }
+        }
+        let (Some(margins), Some(record)) = (
+            calibration.margins(kind.name(), level)?,
+            calibration
+                .closures
+                .iter()
+                .find(|c| c.closure == kind.name()),
+        ) else {
+            return Ok(Bands::Missing(format!(
+                "bands.json has no calibration of the {} closure",
+                kind.name()
+            )));
+        };
+        let scales = problem.band_scales(self.get(kind)?, s, DEFAULT_LEVEL)?;
+        let bands = ProfileBands::new(s, &scales, margins, level);
+        let summary = BandSummary {
+            level,
+            margins,
+            relative_widths: bands.relative_widths(s),
+            held_out_coverage: record.fold_coverage,
+        };
+        Ok(Bands::Calibrated(Box::new((bands, summary))))
+    }
+
+    /// The closure of `kind`; an error for the extremum closure when the models' folder has
+    /// no `ext` model.
+    pub fn get(&self, kind: ClosureKind) -> Result<&dyn Closure> {
+        Ok(match kind {
             ClosureKind::Learned => &self.learned,
             ClosureKind::Local => &self.local,
             ClosureKind::Nonlocal => &self.nonlocal,
-        }
+            ClosureKind::Extremum => self.extremum.as_ref().ok_or_else(|| {
+                SolverError::InvalidArgument(
+                    "the extremum closure needs the `ext` model, which the models' folder \
+                     lacks (trained before it existed): train again"
+                        .to_owned(),
+                )
+            })?,
+        })
     }
 
     /// Where each bin of `s` lies relative to the training rows of the closure `kind`, in
@@ -118,6 +225,7 @@ impl Closures {
         phi: f64,
         s: &ProfileSolution,
     ) -> Result<Vec<DomainCheck>> {
+        self.get(kind)?;
         let (domain, features) = &self.domains[kind as usize];
         let columns = features
             .iter()
@@ -125,6 +233,7 @@ impl Closures {
                 |name| match Observable::from_name(name).and_then(|o| s.column(o)) {
                     Some(values) => Ok(values.to_vec()),
                     None if name == col::PHI => Ok(vec![phi; s.j.len()]),
+                    None if name == col::EXTREMUM_DISTANCE => Ok(s.d_ext.clone()),
                     None => Err(SolverError::InvalidArgument(format!(
                         "a solve gives no `{name}` per bin for the training-domain check"
                     ))),

@@ -15,7 +15,7 @@ impl std::fmt::Display for Stall {
             Stall::IterationLimit(limit) => write!(
                 f,
                 "{limit} iterations were not enough (a closure of boosted trees is \
-                 piecewise constant, smoothed only over +-{:.0} % in J and Delta_v or Theta)",
+                 piecewise constant, smoothed only over +-{:.0} % in J and Delta_v, Theta or d_ext)",
                 100.0 * crate::closure::SMOOTHING
             ),
             Stall::SingularJacobian => write!(

@@ -11,22 +11,31 @@
 //! by [`fit_local_rheology`]) and returns a [`ProfileSolution`], which a [`SolvedProfile`]
 //! writes as `profile.csv` beside its [`SolveSummary`].
 
+pub mod band_calibration;
+pub mod bands;
 pub mod closure;
 pub mod closures;
 pub mod error;
 pub mod local_fit;
 pub mod newton;
 pub mod problem;
+pub mod proposal;
 pub mod solution;
 pub mod solved_profile;
 pub mod theta_balance;
 
-pub use closure::{Closure, Descriptor, LearnedClosure, NonlocalClosure, SMOOTHING};
-pub use closures::{ClosureKind, Closures};
+pub use band_calibration::{calibrate_bands, ShippedModel};
+pub use bands::{BandCalibration, BandScales, ClosureBands, ProfileBands, BANDED};
+pub use closure::{
+    Closure, ClosureInterval, Descriptor, ExtremumClosure, LearnedClosure, NonlocalClosure,
+    EXTREMUM_SMOOTHING_FLOOR, SMOOTHING,
+};
+pub use closures::{Bands, ClosureKind, Closures};
 pub use error::{Result, SolverError, Stall};
 pub use local_fit::fit_local_rheology;
 pub use newton::TOLERANCE;
 pub use problem::ProfileProblem;
+pub use proposal::{Candidate, Outcome, Proposal};
 pub use solution::ProfileSolution;
-pub use solved_profile::{SolveSummary, SolvedProfile};
+pub use solved_profile::{BandSummary, SolveSummary, SolvedProfile};
 pub use theta_balance::{ThetaBalance, ThetaBalanceFit};

@@ -15,9 +15,10 @@
 //!   `(l/w)^2 (Theta_{k+1} - 2 Theta_k + Theta_{k-1}) = Theta_k - c J_k^beta`
 //!   ([`crate::theta_balance`]), divided by `Theta_k`;
 //! - closure at every face and bin centre: `J = eta |gdot| / P` and the closure's second
-//!   feature, `Delta_v = |u_inf - u| / (|u_inf| + 1e-5)` (eq 6.2) or `Theta` (the bin's, and
-//!   the geometric mean of the two bins' at a face), give `(phi_loc, mu)`: mu at the faces,
-//!   phi_loc at the bin centres. A solved bin's stress is the mean of its two faces'
+//!   feature, `Delta_v = |u_inf - u| / (|u_inf| + 1e-5)` (eq 6.2), `Theta` (the bin's, and
+//!   the geometric mean of the two bins' at a face) or `d_ext`, the distance of the face or
+//!   bin centre to the nearest zero of the faces' shear rates (`surrogate::shear_zeros`),
+//!   give `(phi_loc, mu)`: mu at the faces, phi_loc at the bin centres. A solved bin's stress is the mean of its two faces'
 //!   ([`ProfileSolution::sigma_xy`]).
 //!
 //! `|gdot|` is regularised as `sqrt(gdot^2 + delta^2)` with `delta` a thousandth of the
@@ -29,8 +30,16 @@
 //! unknowns of its own bin and its two neighbours (and on `ln P`), so the columns of bins
 //! three or more apart are perturbed together, in three to five residual evaluations per
 //! block of unknowns, and each change is credited to the rows beside the bin it perturbed.
+//! `d_ext` is the exception: where the velocity extrema lie depends on the three bins around
+//! each one, however far from the bin that reads it. The coloured differences are taken with
+//! the extrema held where they are (a perturbed bin would otherwise move an extremum and
+//! credit the change of distant rows to its neighbours), and each extremum's effect is
+//! added: the change of every row when it moves (one more residual per extremum) times its
+//! exact gradient in its bins' velocities (`surrogate::ShearZero::gradient`).
 
 use nalgebra::{linalg::LU, DMatrix, DVector, Dyn};
+
+use surrogate::{distance_to_nearest, extremum_distances, shear_zero_faces, shear_zeros};
 
 use crate::closure::{Closure, Descriptor};
 use crate::error::{Result, SolverError, Stall};
@@ -73,8 +82,8 @@ struct BinState {
 }
 
 /// The residuals at one point, with each bin's `phi_loc` (for the volume row's Jacobian).
-struct Evaluation {
-    r: DVector<f64>,
+pub(crate) struct Evaluation {
+    pub(crate) r: DVector<f64>,
     phi_loc: Vec<f64>,
 }
 
@@ -108,28 +117,28 @@ struct Converged {
 
 /// Where the unknowns sit in the state vector.
 #[derive(Clone, Copy)]
-struct Layout<'a> {
-    n: usize,
-    balance: Option<&'a ThetaBalance>,
+pub(crate) struct Layout<'a> {
+    pub(crate) n: usize,
+    pub(crate) balance: Option<&'a ThetaBalance>,
 }
 
 impl Layout<'_> {
-    fn ln_p(&self) -> usize {
+    pub(crate) fn ln_p(&self) -> usize {
         self.n
     }
 
     /// Index of bin `k`'s `ln Theta`.
-    fn theta(&self, k: usize) -> usize {
+    pub(crate) fn theta(&self, k: usize) -> usize {
         self.n + 1 + k
     }
 
-    fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.n + 1 + if self.balance.is_some() { self.n } else { 0 }
     }
 }
 
 impl ProfileProblem {
-    fn floor(&self) -> f64 {
+    pub(crate) fn floor(&self) -> f64 {
         let w = self.bin_width;
         let n = self.n_bins();
         let max_shear = (0..n)
@@ -142,15 +151,31 @@ impl ProfileProblem {
         (u_inf - u).abs() / (u_inf.abs() + DELTA_V_EPSILON)
     }
 
-    /// Shear stress at the face between bins `k` and `k + 1`.
-    fn face(
+    /// Where the faces' shear rates of the bin velocities in `x` change sign, when
+    /// `closure` reads the distance to them (empty otherwise).
+    pub(crate) fn zeros(
+        &self,
+        closure: &dyn Closure,
+        layout: Layout,
+        x: &DVector<f64>,
+    ) -> Vec<f64> {
+        match closure.descriptor() {
+            Descriptor::ExtremumDistance => shear_zeros(&x.as_slice()[..layout.n], self.bin_width),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The local state at the face between bins `k` and `k + 1`: its `J`, the closure's
+    /// second feature and its shear rate `gdot` with the regularised `|gdot|`.
+    pub(crate) fn face_state(
         &self,
         closure: &dyn Closure,
         layout: Layout,
         x: &DVector<f64>,
         k: usize,
         floor: f64,
-    ) -> Result<f64> {
+        zeros: &[f64],
+    ) -> (f64, f64, f64, f64) {
         let k1 = (k + 1) % layout.n;
         let p = x[layout.ln_p()].exp();
         let g = (x[k1] - x[k]) / self.bin_width;
@@ -163,7 +188,27 @@ impl ProfileProblem {
                 0.5 * (x[k] + x[k1]),
             ),
             Descriptor::Theta(_) => (0.5 * (x[layout.theta(k)] + x[layout.theta(k1)])).exp(),
+            Descriptor::ExtremumDistance => distance_to_nearest(
+                (k + 1) as f64 * self.bin_width,
+                zeros,
+                layout.n as f64 * self.bin_width,
+            ),
         };
+        (j, second, g, magnitude)
+    }
+
+    /// Shear stress at the face between bins `k` and `k + 1`.
+    fn face(
+        &self,
+        closure: &dyn Closure,
+        layout: Layout,
+        x: &DVector<f64>,
+        k: usize,
+        floor: f64,
+        zeros: &[f64],
+    ) -> Result<f64> {
+        let p = x[layout.ln_p()].exp();
+        let (j, second, g, magnitude) = self.face_state(closure, layout, x, k, floor, zeros);
         let (_, mu) = closure.evaluate(j, second, self.phi)?;
         Ok(-(g / magnitude) * mu * p)
     }
@@ -176,7 +221,29 @@ impl ProfileProblem {
         x: &DVector<f64>,
         k: usize,
         floor: f64,
+        zeros: &[f64],
     ) -> Result<BinState> {
+        let (j, second, delta_v, gdot) = self.bin_state(closure, layout, x, k, floor, zeros);
+        let (phi_loc, _) = closure.evaluate(j, second, self.phi)?;
+        Ok(BinState {
+            f: self.drag_coefficient * phi_loc * (self.u_inf_mean[k] - x[k]),
+            phi_loc,
+            j,
+            delta_v,
+            gdot,
+        })
+    }
+
+    /// Bin `k`'s `J`, the closure's second feature, `Delta_v` and centred shear rate.
+    pub(crate) fn bin_state(
+        &self,
+        closure: &dyn Closure,
+        layout: Layout,
+        x: &DVector<f64>,
+        k: usize,
+        floor: f64,
+        zeros: &[f64],
+    ) -> (f64, f64, f64, f64) {
         let n = layout.n;
         let (um, u, up, ui) = (x[(k + n - 1) % n], x[k], x[(k + 1) % n], self.u_inf_mean[k]);
         let p = x[layout.ln_p()].exp();
@@ -187,34 +254,42 @@ impl ProfileProblem {
             Descriptor::None => 0.0,
             Descriptor::DeltaV => delta_v,
             Descriptor::Theta(_) => x[layout.theta(k)].exp(),
+            Descriptor::ExtremumDistance => distance_to_nearest(
+                (k as f64 + 0.5) * self.bin_width,
+                zeros,
+                n as f64 * self.bin_width,
+            ),
         };
-        let (phi_loc, _) = closure.evaluate(j, second, self.phi)?;
-        Ok(BinState {
-            f: self.drag_coefficient * phi_loc * (ui - u),
-            phi_loc,
-            j,
-            delta_v,
-            gdot,
-        })
+        (j, second, delta_v, gdot)
     }
 
     /// Residuals: the balance per bin scaled by the drag scale, the volume constraint, and
-    /// (nonlocal closure) the Theta balance per bin divided by the bin's Theta.
-    fn evaluate(
+    /// (nonlocal closure) the Theta balance per bin divided by the bin's Theta. The
+    /// velocity extrema are those of `x`, or `frozen` ones (the Jacobian's).
+    pub(crate) fn evaluate(
         &self,
         closure: &dyn Closure,
         layout: Layout,
         x: &DVector<f64>,
         floor: f64,
+        frozen: Option<&[f64]>,
     ) -> Result<Evaluation> {
         let n = layout.n;
         let (w, scale) = (self.bin_width, self.drag_scale());
+        let own;
+        let zeros = match frozen {
+            Some(z) => z,
+            None => {
+                own = self.zeros(closure, layout, x);
+                &own
+            }
+        };
         let mut r = DVector::zeros(layout.len());
         let mut phi_loc = Vec::with_capacity(n);
-        let mut sigma_before = self.face(closure, layout, x, n - 1, floor)?;
+        let mut sigma_before = self.face(closure, layout, x, n - 1, floor, zeros)?;
         for k in 0..n {
-            let sigma = self.face(closure, layout, x, k, floor)?;
-            let b = self.bin(closure, layout, x, k, floor)?;
+            let sigma = self.face(closure, layout, x, k, floor, zeros)?;
+            let b = self.bin(closure, layout, x, k, floor, zeros)?;
             r[k] = ((sigma - sigma_before) / w - b.f) / scale;
             sigma_before = sigma;
             if let Some(balance) = layout.balance {
@@ -233,7 +308,7 @@ impl ProfileProblem {
 
     /// The Jacobian at `x`, whose residuals are `base`, by coloured finite differences
     /// (module documentation).
-    fn jacobian(
+    pub(crate) fn jacobian(
         &self,
         closure: &dyn Closure,
         layout: Layout,
@@ -242,6 +317,7 @@ impl ProfileProblem {
         floor: f64,
     ) -> Result<DMatrix<f64>> {
         let n = layout.n;
+        let zeros = self.zeros(closure, layout, x);
         let mut jac = DMatrix::zeros(layout.len(), layout.len());
         let h_u = FD_STEP * self.u_inf.iter().fold(0.0, |a: f64, &b| a.max(b.abs()));
         let mut blocks = vec![(0, h_u)];
@@ -255,7 +331,7 @@ impl ProfileProblem {
                 for &j in &group {
                     trial[offset + j] += h;
                 }
-                let e = self.evaluate(closure, layout, &trial, floor)?;
+                let e = self.evaluate(closure, layout, &trial, floor, Some(&zeros))?;
                 for &j in &group {
                     let mut volume = 0.0;
                     for i in [(j + n - 1) % n, j, (j + 1) % n] {
@@ -272,8 +348,27 @@ impl ProfileProblem {
         }
         trial.copy_from(x);
         trial[layout.ln_p()] += FD_STEP;
-        let e = self.evaluate(closure, layout, &trial, floor)?;
+        let e = self.evaluate(closure, layout, &trial, floor, Some(&zeros))?;
         jac.set_column(layout.ln_p(), &((&e.r - &base.r) / FD_STEP));
+        // The extrema move with the bins around them: each one's effect on every row, by a
+        // difference in its position, times its exact gradient in those bins' velocities.
+        if !zeros.is_empty() {
+            let h = FD_STEP * self.bin_width;
+            let mut moved = zeros.clone();
+            for (c, zero) in shear_zero_faces(&x.as_slice()[..n], self.bin_width)
+                .iter()
+                .enumerate()
+            {
+                moved[c] = zeros[c] + h;
+                let e = self.evaluate(closure, layout, x, floor, Some(&moved))?;
+                moved[c] = zeros[c];
+                let dr_dz = (&e.r - &base.r) / h;
+                for (i, dz) in zero.gradient(self.bin_width).into_iter().enumerate() {
+                    let mut column = jac.column_mut((zero.face + i) % n);
+                    column.axpy(dz, &dr_dz, 1.0);
+                }
+            }
+        }
         Ok(jac)
     }
 
@@ -304,8 +399,8 @@ impl ProfileProblem {
         }
         if let Some(balance) = layout.balance {
             let j = (0..n)
-                .map(|k| self.bin(closure, layout, &x, k, floor).map(|b| b.j))
-                .collect::<Result<Vec<_>>>()?;
+                .map(|k| self.bin_state(closure, layout, &x, k, floor, &[]).0)
+                .collect::<Vec<_>>();
             for (k, theta) in balance.profile(self.bin_width, &j).into_iter().enumerate() {
                 x[layout.theta(k)] = theta.ln();
             }
@@ -447,7 +542,7 @@ impl ProfileProblem {
         }
     }
 
-    fn layout<'a>(&self, closure: &'a dyn Closure) -> Layout<'a> {
+    pub(crate) fn layout<'a>(&self, closure: &'a dyn Closure) -> Layout<'a> {
         Layout {
             n: self.n_bins(),
             balance: match closure.descriptor() {
@@ -472,7 +567,7 @@ impl ProfileProblem {
     ) -> Result<Converged> {
         let norm = |e: &Evaluation| e.r.amax();
         let mut iterations = 0;
-        let mut current = self.evaluate(closure, layout, &x, floor)?;
+        let mut current = self.evaluate(closure, layout, &x, floor, None)?;
         let mut kept: Option<LU<f64, Dyn, Dyn>> = None;
         while norm(&current) > TOLERANCE {
             let stalled = |stall, iterations| SolverError::NotConverged {
@@ -483,7 +578,7 @@ impl ProfileProblem {
             };
             if let Some(step) = kept.as_ref().and_then(|lu| lu.solve(&(-&current.r))) {
                 let trial = &x + &step;
-                let e = self.evaluate(closure, layout, &trial, floor)?;
+                let e = self.evaluate(closure, layout, &trial, floor, None)?;
                 if e.r.norm() <= KEPT_JACOBIAN_REDUCTION * current.r.norm() {
                     x = trial;
                     current = e;
@@ -502,7 +597,7 @@ impl ProfileProblem {
             let mut t = 1.0;
             loop {
                 let trial = &x + &step * t;
-                let e = self.evaluate(closure, layout, &trial, floor)?;
+                let e = self.evaluate(closure, layout, &trial, floor, None)?;
                 if e.r.norm() < current.r.norm() || t < 1e-4 {
                     x = trial;
                     current = e;
@@ -535,11 +630,13 @@ impl ProfileProblem {
             ..ProfileSolution::default()
         };
         let n = layout.n;
+        let zeros = self.zeros(closure, layout, x);
         let faces: Vec<f64> = (0..n)
-            .map(|k| self.face(closure, layout, x, k, floor))
+            .map(|k| self.face(closure, layout, x, k, floor, &zeros))
             .collect::<Result<_>>()?;
+        s.d_ext = extremum_distances(&x.as_slice()[..n], self.bin_width);
         for k in 0..n {
-            let b = self.bin(closure, layout, x, k, floor)?;
+            let b = self.bin(closure, layout, x, k, floor, &zeros)?;
             let sigma = 0.5 * (faces[(k + n - 1) % n] + faces[k]);
             s.u.push(x[k]);
             s.gdot.push(b.gdot);

@@ -25,6 +25,9 @@ pub struct ProfileSolution {
     /// The suspension temperature (eq 6.1) where the closure solves its balance (the
     /// nonlocal closure); empty otherwise.
     pub theta: Vec<f64>,
+    /// Each bin's distance (units a) to the nearest velocity extremum of `u`
+    /// (`surrogate::extremum_distances`), the extremum closure's input.
+    pub d_ext: Vec<f64>,
     /// Newton iterations taken (fresh Jacobians, the local law's included; steps on a kept
     /// Jacobian are not counted).
     pub iterations: usize,

@@ -1,8 +1,10 @@
 //! A solved profile as files, by one writer for the command line and Python alike:
 //! `profile.csv` (the dataset's columns that the solve determines, one row per bin, with the
-//! training-domain check of each bin; no standard errors, Theta empty unless the closure
-//! solved for it), `summary.json` ([`SolveSummary`], read back by that type) and the scene
-//! it solved (`scene.toml`).
+//! training-domain check of each bin and, when the models carry their calibration, the
+//! bands; no standard errors, Theta empty unless the closure solved for it),
+//! `summary.json` ([`SolveSummary`], read back by that type) and the scene it solved
+//! (`scene.toml`).
+use crate::bands::{ProfileBands, BANDED};
 use crate::closures::ClosureKind;
 use crate::error::{Result, SolverError};
 use crate::problem::ProfileProblem;
@@ -19,12 +21,14 @@ pub const PROFILE: &str = "profile.csv";
 /// Its summary.
 pub const SUMMARY: &str = "summary.json";
 
-/// A solution of a scene's problem with the training-domain check of its bins.
+/// A solution of a scene's problem with the training-domain check of its bins and its bands.
 pub struct SolvedProfile<'a> {
     pub scene: &'a Scene,
     pub problem: &'a ProfileProblem,
     pub solution: &'a ProfileSolution,
     pub checks: &'a [DomainCheck],
+    /// The bands, when the models were saved with their calibration.
+    pub bands: Option<&'a ProfileBands>,
 }
 
 /// How a solve went (`summary.json`).
@@ -47,22 +51,43 @@ pub struct SolveSummary {
     pub bins_outside_domain: usize,
     /// Largest `domain_distance` over the bins (<= 1 is near enough the training rows).
     pub largest_domain_distance: f64,
+    /// The bands of profile.csv, when the models carry their calibration.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bands: Option<BandSummary>,
     pub wall_ms: f64,
     pub code_version: String,
 }
 
+/// The bands of a solve: their level, margins and how they did on held-out families.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BandSummary {
+    pub level: f64,
+    /// Per observable (`u`, `phi_loc`, `mu`): the margin multiplying each bin's scale.
+    pub margins: [f64; 3],
+    /// Per observable: the mean band width relative to the mean |value| of the profile.
+    pub relative_widths: [f64; 3],
+    /// Per observable: the fraction of the calibration bins the 90 % band covered when their
+    /// family was held out.
+    pub held_out_coverage: [f64; 3],
+}
+
 impl SolvedProfile<'_> {
-    /// The numeric columns of `profile.csv` in its order, from `y` to `f_x` (Theta NaN
-    /// unless the closure solved for it).
-    pub fn columns(&self) -> Vec<(&'static str, Vec<f64>)> {
+    /// The numeric columns per bin, in `profile.csv`'s order after `scene_id` and `profile`:
+    /// `L_y, phi, y, u_inf, u, gdot, sigma_xy, P, phi_loc, J, mu, Theta` (NaN unless the
+    /// closure solved for Theta), `Delta_v, f_x, d_ext`, then with bands `u_lower, u_upper,
+    /// phi_loc_lower, phi_loc_upper, mu_lower, mu_upper`.
+    pub fn columns(&self) -> Vec<(String, Vec<f64>)> {
         let (p, s) = (self.problem, self.solution);
         let n = p.n_bins();
+        let f = &self.scene.file;
         let theta = if s.theta.is_empty() {
             vec![f64::NAN; n]
         } else {
             s.theta.clone()
         };
-        vec![
+        let mut columns: Vec<(String, Vec<f64>)> = [
+            (col::L_Y, vec![f.box_.l_y; n]),
+            (col::PHI, vec![f.particles.phi; n]),
             (col::Y, p.bin_centres()),
             (col::U_INF, p.u_inf.clone()),
             (col::U, s.u.clone()),
@@ -75,15 +100,33 @@ impl SolvedProfile<'_> {
             (col::THETA, theta),
             (col::DELTA_V, s.delta_v.clone()),
             (col::F_X, s.f_x.clone()),
+            (col::EXTREMUM_DISTANCE, s.d_ext.clone()),
         ]
+        .into_iter()
+        .map(|(name, values)| (name.to_owned(), values))
+        .collect();
+        if let Some(bands) = self.bands {
+            for (i, o) in BANDED.iter().enumerate() {
+                columns.push((
+                    format!("{}{}", o.name(), col::LOWER_SUFFIX),
+                    bands.lower[i].clone(),
+                ));
+                columns.push((
+                    format!("{}{}", o.name(), col::UPPER_SUFFIX),
+                    bands.upper[i].clone(),
+                ));
+            }
+        }
+        columns
     }
 
-    /// The summary of this solution by `closure`, which took `wall_ms`, stamped with
-    /// `code_version`.
+    /// The summary of this solution by `closure`, which took `wall_ms` (the solve and its
+    /// bands), stamped with `code_version`; `bands` the account of [`SolvedProfile::bands`].
     pub fn summary(
         &self,
         closure: ClosureKind,
         theta_balance: ThetaBalanceFit,
+        bands: Option<BandSummary>,
         wall_ms: f64,
         code_version: &str,
     ) -> SolveSummary {
@@ -99,12 +142,15 @@ impl SolvedProfile<'_> {
             pressure: s.pressure,
             bins_outside_domain: self.checks.iter().filter(|c| !c.inside()).count(),
             largest_domain_distance: self.checks.iter().map(|c| c.distance).fold(0.0, f64::max),
+            bands,
             wall_ms,
             code_version: code_version.into(),
         }
     }
 
-    /// `profile.csv` as bytes.
+    /// `profile.csv` as bytes: `scene_id, profile`, the [`SolvedProfile::columns`] (`{:e}`,
+    /// empty where NaN: Theta where not solved for), then `in_domain, domain_distance` as
+    /// `predict` writes them.
     pub fn table(&self) -> Result<Vec<u8>> {
         let err = |e: String| SolverError::File {
             path: PROFILE.into(),
@@ -112,31 +158,22 @@ impl SolvedProfile<'_> {
         };
         let mut w = csv::Writer::from_writer(Vec::new());
         let columns = self.columns();
-        let mut header = vec![col::SCENE_ID, col::PROFILE, col::L_Y, col::PHI];
-        header.extend(columns.iter().map(|(name, _)| *name));
-        header.extend([col::IN_DOMAIN, col::DOMAIN_DISTANCE]);
-        w.write_record(&header).map_err(|e| err(e.to_string()))?;
+        let header = [col::SCENE_ID, col::PROFILE]
+            .into_iter()
+            .chain(columns.iter().map(|(name, _)| name.as_str()))
+            .chain([col::IN_DOMAIN, col::DOMAIN_DISTANCE]);
+        w.write_record(header).map_err(|e| err(e.to_string()))?;
         let f = &self.scene.file;
-        let unsolved = self.solution.theta.is_empty();
-        let cell = |name: &str, x: f64| {
-            if unsolved && name == col::THETA {
-                String::new()
-            } else {
-                format!("{x:e}")
-            }
-        };
-        for k in 0..self.problem.n_bins() {
-            let mut record = vec![
-                f.name.clone(),
-                f.fluid.profile.clone(),
-                format!("{:e}", f.box_.l_y),
-                format!("{:e}", f.particles.phi),
-            ];
-            record.extend(columns.iter().map(|(name, values)| cell(name, values[k])));
-            record.extend([
-                self.checks[k].inside().to_string(),
-                format!("{:e}", self.checks[k].distance),
-            ]);
+        for (k, check) in self.checks.iter().enumerate() {
+            let mut record = vec![f.name.clone(), f.fluid.profile.clone()];
+            record.extend(columns.iter().map(|(_, values)| {
+                if values[k].is_nan() {
+                    String::new()
+                } else {
+                    format!("{:e}", values[k])
+                }
+            }));
+            record.extend([check.inside().to_string(), format!("{:e}", check.distance)]);
             w.write_record(&record).map_err(|e| err(e.to_string()))?;
         }
         w.into_inner().map_err(|e| err(e.to_string()))

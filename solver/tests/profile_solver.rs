@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use sim::FlowProfile;
 use solver::{
-    fit_local_rheology, Closure, LearnedClosure, NonlocalClosure, ProfileProblem, ProfileSolution,
-    ThetaBalance, TOLERANCE,
+    fit_local_rheology, Closure, Descriptor, ExtremumClosure, LearnedClosure, NonlocalClosure,
+    ProfileProblem, ProfileSolution, ThetaBalance, TOLERANCE,
 };
 use surrogate::{Dataset, LocalRheology, Predictor};
 
@@ -95,6 +95,85 @@ fn local_rheology_reproduces_the_simulated_validation_profiles() {
 fn learned_closure_converges_on_the_validation_profiles() {
     let closure = LearnedClosure::new(Predictor::load(&repo("models"), "dv").unwrap()).unwrap();
     solve_validation_scenes(&closure, [0.05, 0.08, 0.10]);
+}
+
+#[test]
+fn extremum_closure_converges_on_the_validation_profiles() {
+    let closure = ExtremumClosure::new(Predictor::load(&repo("models"), "ext").unwrap()).unwrap();
+    // Measured with the shipped models: u 0.7-0.8 %, phi_loc 2.0-2.1 %, mu 4.2-4.3 %.
+    solve_validation_scenes(&closure, [0.03, 0.05, 0.07]);
+}
+
+/// A closure moved a fraction `eps` of the way to the upper end of its mu interval.
+struct Toward<'a> {
+    closure: &'a dyn Closure,
+    eps: f64,
+}
+
+impl Closure for Toward<'_> {
+    fn evaluate(&self, j: f64, descriptor: f64, phi: f64) -> solver::Result<(f64, f64)> {
+        let (phi_loc, mu) = self.closure.evaluate(j, descriptor, phi)?;
+        let upper = self.closure.interval(j, descriptor, phi, 0.9)?.unwrap()[1].1;
+        Ok((phi_loc, mu + self.eps * (upper - mu)))
+    }
+
+    fn descriptor(&self) -> Descriptor<'_> {
+        self.closure.descriptor()
+    }
+}
+
+#[test]
+fn the_bands_response_is_how_a_re_solved_profile_moves() {
+    // The linear response behind the u band: the solve with the closure a small step toward
+    // the upper end of its mu interval moves u by that step times the response.
+    let closure = LearnedClosure::new(Predictor::load(&repo("models"), "dv").unwrap()).unwrap();
+    let law = local_law();
+    let (problem, _) = scene("datasets/validate.csv", "validate_000");
+    let s = problem.solve(&closure, Some(&law), 0.2).unwrap();
+    let [from_phi, from_mu] = problem.responses(&closure, &s, 0.9).unwrap();
+    let eps = 0.02;
+    let moved = problem
+        .solve(
+            &Toward {
+                closure: &closure,
+                eps,
+            },
+            Some(&law),
+            0.2,
+        )
+        .unwrap();
+    let measured: Vec<f64> = moved
+        .u
+        .iter()
+        .zip(&s.u)
+        .map(|(a, b)| (a - b) / eps)
+        .collect();
+    let difference: Vec<f64> = measured.iter().zip(&from_mu).map(|(a, b)| a - b).collect();
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    println!(
+        "response {:.3e}, re-solved {:.3e}, difference {:.3e}",
+        norm(&from_mu),
+        norm(&measured),
+        norm(&difference)
+    );
+    assert!(norm(&from_mu) > 0.0 && norm(&from_phi) > 0.0);
+    assert!(norm(&difference) < 0.1 * norm(&from_mu));
+    // The bands hold the solution, are positive, and narrower at a lower level.
+    let scales = problem.band_scales(&closure, &s, 0.9).unwrap();
+    assert!(scales
+        .per_observable
+        .iter()
+        .flatten()
+        .all(|x| x.is_finite() && *x >= 0.0));
+    let wide = solver::ProfileBands::new(&s, &scales, [1.5; 3], 0.9);
+    let narrow = solver::ProfileBands::new(&s, &scales, [0.5; 3], 0.5);
+    for i in 0..3 {
+        let values = s.column(solver::BANDED[i]).unwrap();
+        for (k, &value) in values.iter().enumerate() {
+            assert!(wide.lower[i][k] <= narrow.lower[i][k] && narrow.lower[i][k] <= value);
+            assert!(value <= narrow.upper[i][k] && narrow.upper[i][k] <= wide.upper[i][k]);
+        }
+    }
 }
 
 #[test]

@@ -20,7 +20,7 @@ pub struct Args {
     /// Directory of the trained models (`suspflow train --out`).
     #[arg(long, default_value = "models")]
     models: PathBuf,
-    /// Mappings to time (mu, theta, dv); all three when absent.
+    /// Mappings to time (mu, theta, dv, ext); all four when absent.
     #[arg(long = "mapping")]
     mappings: Vec<String>,
     /// Input table with the mappings' feature columns; when absent, a synthetic profile of

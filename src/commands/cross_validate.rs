@@ -8,6 +8,9 @@
 //! domain and those outside, with their counts. The trees' settings are those of the models
 //! in `--models` (`<mapping>.meta.json`), so train first. With `--learning-curve`, it also
 //! measures the error against the number of families trained on (`surrogate::LearningCurve`).
+//! Beside every error, the part beyond the held-out targets' own noise; then the mappings
+//! side by side family by family, and the coverage of their intervals on the same folds
+//! (`surrogate::IntervalStudy`: three ways of making them, and the shipped one per family).
 //! Writes `DIR/report.md` (tables) and `DIR/cv.json` (every figure); progress goes to
 //! standard error.
 use anyhow::Context;
@@ -17,8 +20,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use surrogate::{
-    family_names, output_standard_errors, profile_names, Dataset, FamilyCv, LearningCurve, Mapping,
-    MeanErrors, RowErrors, Samples, TableKind, TrainedModel, Variant,
+    family_names, output_standard_errors, profile_names, Dataset, FamilyCv, IntervalCoverage,
+    IntervalStudy, LearningCurve, Mapping, MeanErrors, RowErrors, Samples, TableKind, TrainedModel,
+    Variant,
 };
 
 use crate::surrogate_text::{describe, percent, warn_skipped};
@@ -29,7 +33,7 @@ pub struct Args {
     /// `generate` or its ensemble table (`<stem>.ensemble.csv`); at least two families.
     #[arg(long)]
     data: PathBuf,
-    /// Mappings to cross-validate (mu, theta, dv); all three when absent.
+    /// Mappings to cross-validate (mu, theta, dv, ext); all four when absent.
     #[arg(long = "mapping")]
     mappings: Vec<String>,
     /// Directory of trained models whose hyper-parameters the trees use (`suspflow train --out`).
@@ -51,6 +55,9 @@ pub struct Args {
     /// Seed of those draws.
     #[arg(long, default_value_t = 1, requires = "learning_curve")]
     seed: u64,
+    /// Level of the intervals whose coverage on the folds is measured (in (0, 1)).
+    #[arg(long, default_value_t = surrogate::DEFAULT_LEVEL)]
+    level: f64,
 }
 
 /// Everything `cv.json` holds.
@@ -67,6 +74,8 @@ struct Record<'a> {
     /// One per mapping with `--learning-curve`.
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     learning_curves: &'a [LearningCurve],
+    /// The intervals' coverage on the same folds, one per mapping.
+    intervals: &'a [IntervalCoverage],
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -86,7 +95,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let table = TableKind::of(&dataset).ok().map(|kind| kind.describe());
     // A missing `profile` column is named here, before any model is read.
     let families = profile_names(&dataset)?;
-    let (mut results, mut curves) = (Vec::new(), Vec::new());
+    let (mut results, mut curves, mut intervals) = (Vec::new(), Vec::new(), Vec::new());
     for mapping in mappings {
         let params = TrainedModel::load(&args.models, mapping.name)
             .with_context(|| {
@@ -142,6 +151,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )
         .with_context(|| format!("cross-validating `{}`", mapping.name))?;
         results.push(cv);
+        eprintln!("  {}: intervals on the same folds", mapping.name);
+        intervals.push(
+            IntervalStudy::run(mapping, &samples, &params, args.level)
+                .with_context(|| format!("the intervals of `{}`", mapping.name))?
+                .coverage,
+        );
     }
     let seconds = started.elapsed().as_secs_f64();
     let record = Record {
@@ -153,6 +168,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         seconds,
         mappings: &results,
         learning_curves: &curves,
+        intervals: &intervals,
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
@@ -203,6 +219,10 @@ fn markdown(record: &Record, models: &Path) -> String {
         {
             learning_curve_section(&mut md, curve);
         }
+    }
+    crate::cv_sections::mappings_side_by_side(&mut md, record.mappings);
+    for coverage in record.intervals {
+        crate::cv_sections::interval_section(&mut md, coverage);
     }
     md
 }
@@ -276,9 +296,15 @@ fn mapping_section(md: &mut String, cv: &FamilyCv) {
     );
     let _ = writeln!(
         md,
-        "Mean over the held-out families (in parentheses: families with such rows).\n\n\
-         | output | variant | all | in domain | out of domain | abs, all |\n\
-         |---|---|---|---|---|---|"
+        "Mean over the held-out families (in parentheses: families with such rows){}.\n\n\
+         | output | variant | all | in domain | out of domain | abs, all | beyond noise, all |\n\
+         |---|---|---|---|---|---|---|",
+        if cv.target_noise.is_some() {
+            "; \"beyond noise\": the mean over the families of each one's error beyond its \
+             targets' own noise, `sqrt(max(0, error^2 - noise^2))`"
+        } else {
+            ""
+        }
     );
     for (j, output) in cv.outputs.iter().enumerate() {
         for s in &cv.summary {
@@ -288,12 +314,16 @@ fn mapping_section(md: &mut String, cv: &FamilyCv) {
             };
             let _ = writeln!(
                 md,
-                "| {output} | {} | {} | {} | {} | {} |",
+                "| {output} | {} | {} | {} | {} | {} | {} |",
                 s.variant.label(),
                 cell(&s.all),
                 cell(&s.in_domain),
                 cell(&s.out_of_domain),
-                absolute_cell(s.all.mean_absolute.as_ref(), j)
+                absolute_cell(s.all.mean_absolute.as_ref(), j),
+                s.all
+                    .beyond_noise
+                    .as_ref()
+                    .map_or_else(|| "-".to_owned(), |b| percent(b[j]))
             );
         }
     }
@@ -301,7 +331,7 @@ fn mapping_section(md: &mut String, cv: &FamilyCv) {
         for (j, output) in cv.outputs.iter().enumerate() {
             let _ = writeln!(
                 md,
-                "| {output} | the targets' own noise | {} | | | |",
+                "| {output} | the targets' own noise | {} | | | | |",
                 percent(noise[j])
             );
         }
@@ -318,8 +348,10 @@ fn mapping_section(md: &mut String, cv: &FamilyCv) {
         let _ = writeln!(
             md,
             "### `{output}` by held-out family (all / in / out)\n\n\
-             | family | rows (in / out) | {} | abs, all ({}) | noise |\n|---|---|{}---|---|",
+             | family | rows (in / out) | {} | abs, all ({}) | noise | beyond noise, all ({}) |\n\
+             |---|---|{}---|---|---|",
             labels.join(" | "),
+            labels.join(" / "),
             labels.join(" / "),
             "---|".repeat(labels.len())
         );
@@ -340,9 +372,19 @@ fn mapping_section(md: &mut String, cv: &FamilyCv) {
                 .iter()
                 .map(|v| absolute_cell(v.all.mean_absolute.as_ref(), j))
                 .collect();
+            let beyond: Vec<String> = fold
+                .variants
+                .iter()
+                .map(|v| {
+                    v.all
+                        .beyond_noise
+                        .as_ref()
+                        .map_or_else(|| "-".to_owned(), |b| percent(b[j]))
+                })
+                .collect();
             let _ = writeln!(
                 md,
-                "| `{}` | {} ({} / {}) | {} | {} | {} |",
+                "| `{}` | {} ({} / {}) | {} | {} | {} | {} |",
                 fold.family.replace('|', "\\|"),
                 v0.all.rows,
                 v0.in_domain.rows,
@@ -351,7 +393,8 @@ fn mapping_section(md: &mut String, cv: &FamilyCv) {
                 absolute.join(" / "),
                 fold.target_noise
                     .as_ref()
-                    .map_or_else(|| "-".to_owned(), |n| percent(n[j]))
+                    .map_or_else(|| "-".to_owned(), |n| percent(n[j])),
+                beyond.join(" / ")
             );
         }
         md.push('\n');

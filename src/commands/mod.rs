@@ -13,6 +13,7 @@ pub mod green_kubo;
 pub mod merge;
 pub mod plot;
 pub mod predict;
+pub mod propose;
 pub mod report;
 pub mod simulate;
 pub mod solve;

@@ -6,12 +6,16 @@
 //! whether it lies inside, `domain_distance` how far it is from the nearest training rows in
 //! units of the domain's threshold (<= 1 is near enough), and the rows outside are counted.
 //! Predictions are clipped into their physical range (`surrogate::physical_range`: 0 <
-//! phi_loc < 0.74, mu >= 0), and the clipped values are counted too.
-use anyhow::{bail, Context};
-use schema::columns as col;
+//! phi_loc < 0.74, mu >= 0), and the clipped values are counted too. Each prediction comes
+//! with an interval, `<output>_lower` to `<output>_upper`, at `--level` (90 % by default):
+//! conformalised quantile trees calibrated on profile families the model did not see
+//! (`surrogate::models::intervals`).
+use anyhow::Context;
 use std::path::PathBuf;
 use std::time::Instant;
-use surrogate::{Dataset, DomainCheck, Predictor};
+use surrogate::{Dataset, PredictionTable, Predictor};
+
+use crate::surrogate_text::errors_by_output;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -27,6 +31,9 @@ pub struct Args {
     /// Replace an existing `--out`.
     #[arg(long)]
     force: bool,
+    /// Level of the intervals `<output>_lower`, `<output>_upper` (a probability in (0, 1)).
+    #[arg(long, default_value_t = surrogate::DEFAULT_LEVEL)]
+    level: f64,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -53,11 +60,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let dir = args.model.parent().map(PathBuf::from).unwrap_or_default();
     let model = Predictor::load(&dir, name)?;
     let dataset = Dataset::read_csv(&args.input)?;
-    let (predicted, clipped) = model.predict_counting_clips(&dataset)?;
+    let prediction = model.predict_with_intervals(&dataset, args.level)?;
     let domain = model.check_domain(&dataset)?;
     let elapsed = started.elapsed();
-    let predicted: Vec<Vec<f64>> = predicted.rows().into_iter().map(|r| r.to_vec()).collect();
-    let out = with_predictions(&dataset, &model.meta().outputs, &predicted, &domain)?;
+    let table = PredictionTable {
+        dataset: &dataset,
+        outputs: &model.meta().outputs,
+        prediction: &prediction,
+        domain: &domain,
+    };
+    let out = table.to_csv()?;
     match &args.out {
         Some(path) => {
             std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))?
@@ -65,15 +77,30 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => print!("{out}"),
     }
     eprintln!(
-        "{} rows predicted by `{}` in {:.2} ms (load + read + predict + domain check)",
+        "{} rows predicted by `{}` in {:.2} ms (load + read + predict + intervals + domain check)",
         dataset.n_rows(),
         name,
         elapsed.as_secs_f64() * 1e3
     );
-    if clipped > 0 {
+    match model.intervals() {
+        Some(i) => eprintln!(
+            "intervals: {:.0} % (columns <output>_lower, <output>_upper), calibrated on {} folds \
+             leaving one of the {} out, which they covered at 90 %: {}",
+            100.0 * args.level,
+            i.calibration.folds,
+            i.calibration.held_out,
+            errors_by_output(&i.calibration.outputs, &i.calibration.fold_coverage)
+        ),
+        None => eprintln!(
+            "warning: `{name}` was saved without intervals (a training that could not leave \
+             rows out to calibrate them): predictions without error bars"
+        ),
+    }
+    if prediction.clipped > 0 {
         eprintln!(
-            "warning: {clipped} predicted values of `{name}` left their physical range \
+            "warning: {} predicted values of `{name}` left their physical range \
              (0 < phi_loc < {}, mu >= 0) and were clipped to its edge",
+            prediction.clipped,
             surrogate::PHI_LOC_MAX
         );
     }
@@ -89,44 +116,4 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     Ok(())
-}
-
-/// The input table, every column as read, followed by one column `<output>_pred` per output
-/// and the training-domain columns `in_domain`, `domain_distance` (CSV quoted where a cell
-/// needs it).
-fn with_predictions(
-    dataset: &Dataset,
-    outputs: &[String],
-    predicted: &[Vec<f64>],
-    domain: &[DomainCheck],
-) -> anyhow::Result<String> {
-    let names = dataset.column_names();
-    let added: Vec<String> = outputs
-        .iter()
-        .map(|o| format!("{o}{}", col::PREDICTED_SUFFIX))
-        .chain([col::IN_DOMAIN.to_owned(), col::DOMAIN_DISTANCE.to_owned()])
-        .collect();
-    if let Some(taken) = added.iter().find(|a| names.contains(a)) {
-        bail!(
-            "{} already has a column `{taken}` (the output of an earlier predict?): the \
-             predictions would repeat its name; give the table without it",
-            dataset.source_name()
-        );
-    }
-    let columns = names
-        .iter()
-        .map(|n| dataset.text(n))
-        .collect::<Result<Vec<_>, _>>()?;
-    let mut writer = csv::Writer::from_writer(Vec::new());
-    let header = names.iter().chain(&added);
-    writer.write_record(header)?;
-    for (row, (pred, check)) in predicted.iter().zip(domain).enumerate() {
-        let cells = columns
-            .iter()
-            .map(|c| c[row].clone())
-            .chain(pred.iter().map(|x| format!("{x:e}")))
-            .chain([check.inside().to_string(), format!("{:e}", check.distance)]);
-        writer.write_record(cells)?;
-    }
-    Ok(String::from_utf8(writer.into_inner()?)?)
 }

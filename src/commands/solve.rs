@@ -2,11 +2,12 @@
 //! its forcing alone (u_inf(y), phi, box, particle sizes), by the momentum balance closed
 //! with the learned `dv` mapping, with the local rheology, or nonlocally with the learned
 //! `theta` mapping and the Theta balance (the `solver` crate).
-//! Writes `DIR/profile.csv` (the dataset's columns that the solve determines; no standard
-//! errors), `DIR/summary.json` (which closure, and the fitted Theta balance) and
-//! `DIR/scene.toml` (`solver::SolvedProfile`); `--compare
-//! FILE.csv` puts a simulated profile of the same scene beside the solutions of every
-//! closure.
+//! Writes `DIR/profile.csv` (the dataset's columns that the solve determines, no standard
+//! errors, and the bands `<u|phi_loc|mu>_lower`, `_upper` at `--level`, 90 % by default,
+//! calibrated on families the models did not see: `solver::bands`), `DIR/summary.json`
+//! (which closure, the fitted Theta balance, the bands' margins) and `DIR/scene.toml`, all
+//! by `solver::SolvedProfile`; `--compare FILE.csv` puts a simulated profile of the same
+//! scene beside the solutions of every closure.
 use crate::output_guard;
 use crate::plots::profile_panels::{profile_panels, Panel, Series};
 use anyhow::{bail, Context};
@@ -14,10 +15,15 @@ use ndarray::Array2;
 use schema::columns as col;
 use schema::Observable;
 use sim::input::scene::Scene;
-use solver::{ClosureKind, Closures, ProfileProblem, ProfileSolution, SolvedProfile, SolverError};
+use solver::{
+    Bands, ClosureKind, Closures, ProfileBands, ProfileProblem, ProfileSolution, SolvedProfile,
+    SolverError, BANDED,
+};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use surrogate::{relative_l2_error, Dataset};
+use surrogate::{beyond_noise, relative_l2_error, Dataset};
+
+use crate::surrogate_text::percent;
 
 /// Starting pressure of the Newton iterations (units eta/time; the training scenes have
 /// 0.03-0.2).
@@ -36,8 +42,9 @@ pub struct Args {
     #[arg(long, default_value = "models")]
     models: PathBuf,
     /// Closure of the momentum balance: learned (the `dv` mapping), local (mu = A J^b and
-    /// eq 6.7, fitted on the training data) or nonlocal (the `theta` mapping with the Theta
-    /// balance l^2 Theta'' = Theta - c J^beta).
+    /// eq 6.7, fitted on the training data), nonlocal (the `theta` mapping with the Theta
+    /// balance l^2 Theta'' = Theta - c J^beta) or extremum (the `ext` mapping, whose input
+    /// d_ext is the distance to the nearest velocity extremum of the solved profile).
     #[arg(long, default_value = "learned", value_parser = parse_closure)]
     closure: ClosureKind,
     /// Training dataset of the fits every closure uses: the local rheology (the local closure,
@@ -53,9 +60,13 @@ pub struct Args {
     #[arg(long)]
     force: bool,
     /// A simulated profile of this scene (`profile.csv` of `simulate`, or a dataset holding
-    /// the scene's rows under its name): relative L2 errors of every closure.
+    /// the scene's rows under its name): relative L2 errors of every closure, their part
+    /// beyond the simulation's own noise, and the coverage of this closure's bands.
     #[arg(long)]
     compare: Option<PathBuf>,
+    /// Level of the bands (a probability in (0, 1)).
+    #[arg(long, default_value_t = surrogate::DEFAULT_LEVEL)]
+    level: f64,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -70,6 +81,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "an earlier solution",
         "choose another --out",
     )?;
+    surrogate::check_level(args.level)?;
     let closures = Closures::load(&args.models, args.train.as_deref()).with_context(|| {
         format!(
             "loading the closures from {} and their training data",
@@ -79,7 +91,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
     let solution = problem
         .solve(
-            closures.get(args.closure),
+            closures.get(args.closure)?,
             Some(&closures.local),
             START_PRESSURE,
         )
@@ -91,17 +103,30 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 args.closure.name()
             )
         })?;
+    let bands = closures.bands(args.closure, &problem, &solution, args.level)?;
     let wall_ms = started.elapsed().as_secs_f64() * 1e3;
     let checks = closures.domain_checks(args.closure, scene.file.particles.phi, &solution)?;
+    let (profile_bands, band_summary) = match bands {
+        Bands::Calibrated(calibrated) => {
+            let (b, summary) = *calibrated;
+            (Some(b), Some(summary))
+        }
+        Bands::Missing(why) => {
+            eprintln!("warning: the profile has no bands: {why}");
+            (None, None)
+        }
+    };
     let solved = SolvedProfile {
         scene: &scene,
         problem: &problem,
         solution: &solution,
         checks: &checks,
+        bands: profile_bands.as_ref(),
     };
     let summary = solved.summary(
         args.closure,
         closures.theta_fit,
+        band_summary,
         wall_ms,
         crate::CODE_VERSION,
     );
@@ -123,12 +148,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         wall_ms,
         profile_csv.display()
     );
+    if let Some(b) = &summary.bands {
+        println!(
+            "  {:.0} % bands (columns <u|phi_loc|mu>_lower, _upper), mean width relative to the \
+             profile: u {}, phi_loc {}, mu {}; on held-out families the 90 % bands covered u {}, \
+             phi_loc {}, mu {} of the bins",
+            100.0 * b.level,
+            percent(b.relative_widths[0]),
+            percent(b.relative_widths[1]),
+            percent(b.relative_widths[2]),
+            percent(b.held_out_coverage[0]),
+            percent(b.held_out_coverage[1]),
+            percent(b.held_out_coverage[2])
+        );
+    }
     if outside > 0 {
         eprintln!(
-            "warning: {outside} of {} bins lie outside the training domain of the {:?} closure \
+            "warning: {outside} of {} bins lie outside the training domain of the {} closure \
              (largest domain distance {:.2}, 1 = the threshold): their closure values are \
              extrapolations (profile.csv column in_domain = false)",
-            summary.bins, args.closure, summary.largest_domain_distance
+            summary.bins,
+            args.closure.name(),
+            summary.largest_domain_distance
         );
     }
     if let Some(path) = &args.compare {
@@ -136,7 +177,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .into_iter()
             .filter(|&kind| kind != args.closure)
             .filter_map(|kind| {
-                match problem.solve(closures.get(kind), Some(&closures.local), START_PRESSURE) {
+                let solved = closures
+                    .get(kind)
+                    .and_then(|c| problem.solve(c, Some(&closures.local), START_PRESSURE));
+                match solved {
                     Ok(s) => Some((kind, s)),
                     Err(e) => {
                         println!("{} closure left out of the comparison: {e}", kind.name());
@@ -147,7 +191,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .collect();
         let mut solutions = vec![(args.closure, &solution)];
         solutions.extend(others.iter().map(|(kind, s)| (*kind, s)));
-        compare(path, &args.out, &scene, &problem, &solutions)?;
+        compare(
+            path,
+            &args.out,
+            &scene,
+            &problem,
+            &solutions,
+            profile_bands.as_ref(),
+        )?;
     }
     Ok(())
 }
@@ -169,14 +220,17 @@ fn with_hint(e: SolverError, closure: ClosureKind) -> anyhow::Error {
 }
 
 /// Relative L2 errors of u, phi_loc and mu of each solution against the simulated rows of
-/// the scene in `path`, printed, and the figure `compare.svg` in `out`: the three along y,
-/// simulated (one standard error bars where the file has them) and solved.
+/// the scene in `path`, with their part beyond the simulation's own noise (`||se|| / ||y||`)
+/// where the file has standard errors, and the fraction of the bins inside the first
+/// solution's `bands`; printed, and the figure `compare.svg` in `out`: the three along y,
+/// simulated (one standard error bars where the file has them), solved, and the bands.
 fn compare(
     path: &Path,
     out: &Path,
     scene: &Scene,
     problem: &ProfileProblem,
     solutions: &[(ClosureKind, &ProfileSolution)],
+    bands: Option<&ProfileBands>,
 ) -> anyhow::Result<()> {
     let data = Dataset::read_csv(path)?;
     let ids = data.text(col::SCENE_ID)?;
@@ -193,14 +247,20 @@ fn compare(
         );
     }
     let y = problem.bin_centres();
-    println!("against {} (relative L2 error, unscaled):", path.display());
     println!(
-        "  {:<8} {:>8} {:>8} {:>8}",
+        "against {} (relative L2 error, unscaled; in brackets its part beyond the simulation's \
+         own noise, sqrt(max(0, error^2 - noise^2))):",
+        path.display()
+    );
+    println!(
+        "  {:<8} {:>18} {:>18} {:>18}",
         "closure",
         col::U,
         col::PHI_LOC,
         col::MU
     );
+    let mut noise_line = format!("  {:<8}", "noise");
+    let mut coverage_line = format!("  {:<8}", "in band");
     let mut panels = Vec::new();
     let mut lines: Vec<String> = solutions
         .iter()
@@ -211,10 +271,18 @@ fn compare(
         let c = data.column(name)?;
         let simulated = Array2::from_shape_fn((rows.len(), 1), |(k, _)| c[rows[k]]);
         let se_name = col::standard_error(name);
-        let errors = match data.column(&se_name) {
+        let errors: Option<Vec<f64>> = match data.column(&se_name) {
             Ok(se) => Some(rows.iter().map(|&r| se[r]).collect()),
             Err(_) => None,
         };
+        let norm = |v: &mut dyn Iterator<Item = f64>| v.map(|x| x * x).sum::<f64>().sqrt();
+        let noise = errors
+            .as_ref()
+            .map(|se| norm(&mut se.iter().copied()) / norm(&mut rows.iter().map(|&r| c[r])));
+        noise_line += &format!(
+            " {:>18}",
+            noise.map_or_else(|| "-".to_owned(), |n| format!("{:.2}%", 100.0 * n))
+        );
         let mut series = vec![Series {
             name: "simulated".to_owned(),
             points: rows.iter().zip(&y).map(|(&r, &y)| (y, c[r])).collect(),
@@ -226,12 +294,37 @@ fn compare(
                 .with_context(|| format!("a solve gives no {name} per bin"))?;
             let column = Array2::from_shape_fn((rows.len(), 1), |(k, _)| solved[k]);
             let error = relative_l2_error(simulated.view(), column.view())?[0];
-            *line += &format!(" {:>7.2}%", 100.0 * error);
+            let beyond = noise.map_or_else(
+                || " ".repeat(9),
+                |n| format!(" ({:>5.2}%)", 100.0 * beyond_noise(error, n)),
+            );
+            *line += &format!(" {:>8}{beyond}", format!("{:.2}%", 100.0 * error));
             series.push(Series {
                 name: format!("solved, {} closure", kind.name()),
                 points: y.iter().copied().zip(solved.iter().copied()).collect(),
                 errors: None,
             });
+        }
+        if let Some(b) = bands {
+            let i = BANDED.iter().position(|o| *o == observable).unwrap_or(0);
+            let inside = (0..rows.len())
+                .filter(|&k| b.lower[i][k] <= c[rows[k]] && c[rows[k]] <= b.upper[i][k])
+                .count();
+            coverage_line += &format!(
+                " {:>18}",
+                format!("{:.1}%", 100.0 * inside as f64 / rows.len() as f64)
+            );
+            for (end, values) in [("lower", &b.lower[i]), ("upper", &b.upper[i])] {
+                series.push(Series {
+                    name: format!(
+                        "{:.0} % band, {}, {end}",
+                        100.0 * b.level,
+                        solutions[0].0.name()
+                    ),
+                    points: y.iter().copied().zip(values.iter().copied()).collect(),
+                    errors: None,
+                });
+            }
         }
         panels.push(Panel {
             quantity: name.to_owned(),
@@ -240,6 +333,14 @@ fn compare(
     }
     for line in lines {
         println!("{line}");
+    }
+    println!("{noise_line}");
+    if let Some(b) = bands {
+        println!(
+            "{coverage_line}   (bins inside the {:.0} % bands of the {} closure)",
+            100.0 * b.level,
+            solutions[0].0.name()
+        );
     }
     let figure = out.join("compare.svg");
     let title = format!(

@@ -7,15 +7,23 @@
 //! simulation (`scene_id`), and the lowest mean relative L2 error wins. The search is
 //! recorded in `DIR/<mapping>.tuning.json`, next to the error of XGBoost's defaults (the
 //! thesis's untuned setting). `--no-tune` trains with those defaults directly.
+//!
+//! Each model is saved with its intervals (`surrogate::IntervalStudy`: quantile trees and the
+//! conformal scores of the rows predicted by folds that held them out). When the `dv` and
+//! `theta` mappings are trained together, the bands of `solve` are calibrated too
+//! (`solver::calibrate_bands`: every family's scenes solved with the models of its fold),
+//! into `<out>/bands.json`.
 use anyhow::Context;
-use std::path::PathBuf;
+use solver::{calibrate_bands, BandCalibration, ShippedModel};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use surrogate::{
-    standard_grid, Dataset, HyperParameters, Mapping, ModelMeta, Samples, TableKind, TrainedModel,
-    Tuning,
+    standard_grid, Dataset, HyperParameters, IntervalCalibration, IntervalStudy, LeftOut, Mapping,
+    ModelMeta, Samples, TableKind, TrainedModel, Tuning, DEFAULT_LEVEL, MIN_TUNING_FAMILIES,
 };
 
-use crate::surrogate_text::{describe, errors_by_output, warn_skipped};
+use crate::surrogate_text::{describe, errors_by_output, percent, warn_skipped, widths_by_output};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -30,12 +38,20 @@ pub struct Args {
     /// Replace models already in `--out` (the shipped `models/` among them).
     #[arg(long)]
     force: bool,
-    /// Mappings to train (mu, theta, dv); all three when absent.
+    /// Mappings to train (mu, theta, dv, ext); all four when absent.
     #[arg(long = "mapping")]
     mappings: Vec<String>,
     /// Skip the cross-validated choice of hyper-parameters and train with XGBoost's defaults.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "params_from")]
     no_tune: bool,
+    /// Skip the choice too, and train each mapping with the hyper-parameters of its model in
+    /// this directory (e.g. the shipped `models`, to retrain them on more data).
+    #[arg(long)]
+    params_from: Option<PathBuf>,
+    /// Skip the calibration of solve's bands (`bands.json`, a minute of solves) even when
+    /// `dv` and `theta` are trained.
+    #[arg(long)]
+    no_bands: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -48,11 +64,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let files: Vec<PathBuf> = ["json", "meta.json", "domain.json", "tuning.json"]
             .iter()
             .map(|suffix| args.out.join(format!("{}.{suffix}", mapping.name)))
+            .chain([IntervalCalibration::path(&args.out, mapping.name)])
+            .chain(
+                mapping
+                    .outputs
+                    .iter()
+                    .map(|o| IntervalCalibration::trees_path(&args.out, mapping.name, o)),
+            )
             .collect();
         crate::output_guard::refuse_any_unless_force(
             &files,
             args.force,
             &format!("a trained `{}` model", mapping.name),
+            "give another --out",
+        )?;
+    }
+    let names: Vec<&str> = mappings.iter().map(|m| m.name).collect();
+    if names.contains(&"dv") && names.contains(&"theta") && !args.no_bands {
+        crate::output_guard::refuse_unless_force(
+            &BandCalibration::path(&args.out),
+            args.force,
+            "the calibration of solve's bands",
             "give another --out",
         )?;
     }
@@ -65,6 +97,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let started = Instant::now();
+    let mut studies = Vec::new();
     for mapping in mappings {
         let mut samples = Samples::from_dataset(&dataset, mapping)?;
         warn_skipped(mapping, &samples);
@@ -74,12 +107,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let params = if args.no_tune {
             remove_stale_tuning(&args.out, mapping)?;
             HyperParameters::default()
+        } else if let Some(dir) = &args.params_from {
+            remove_stale_tuning(&args.out, mapping)?;
+            ModelMeta::load_params(dir, mapping.name)
+                .with_context(|| format!("--params-from {}", dir.display()))?
         } else {
             tune(mapping, &samples, &args.out)?
         };
         let t = Instant::now();
         let model = TrainedModel::fit(mapping, &samples, &params)?;
         let train_s = t.elapsed().as_secs_f64();
+        let (model, study) = with_intervals(mapping, model, &samples, &params)?;
+        studies.extend(study.map(|s| (mapping, params.clone(), s)));
         model
             .save(&args.out)
             .with_context(|| format!("saving the {} model", mapping.name))?;
@@ -94,11 +133,81 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             errors_by_output(mapping.outputs, &model.evaluate(&samples)?)
         );
     }
+    if !args.no_bands {
+        bands(&dataset, &studies, &args.out)?;
+    }
     println!(
         "models in {} ({:.3} s in all)",
         args.out.display(),
         started.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+/// Calibrates the bands of `solve` on the training scenes (`solver::calibrate_bands`) and
+/// writes `<out>/bands.json`, when this run trained the `dv` and `theta` mappings with
+/// intervals; otherwise says why not.
+fn bands(
+    dataset: &Dataset,
+    studies: &[(&'static Mapping, HyperParameters, IntervalStudy)],
+    out: &Path,
+) -> anyhow::Result<()> {
+    let trained = |name: &str| studies.iter().any(|(m, _, _)| m.name == name);
+    if !(trained("dv") && trained("theta")) {
+        if BandCalibration::path(out).exists() {
+            eprintln!(
+                "warning: {} was left as it was: the bands of `solve` are calibrated when \
+                 `dv` and `theta` are trained together (with `ext` for its closure)",
+                BandCalibration::path(out).display()
+            );
+        }
+        return Ok(());
+    }
+    if let Some((mapping, _, study)) = studies
+        .iter()
+        .find(|(_, _, s)| s.calibration.held_out != LeftOut::Family.plural())
+    {
+        eprintln!(
+            "note: no bands for solve: they are calibrated leaving one profile family out, and \
+             `{}`'s folds left out {} (fewer than {MIN_TUNING_FAMILIES} families)",
+            mapping.name, study.calibration.held_out
+        );
+        return Ok(());
+    }
+    let t = Instant::now();
+    let models: Vec<ShippedModel> = studies
+        .iter()
+        .map(|(mapping, params, study)| ShippedModel {
+            mapping,
+            params,
+            study,
+        })
+        .collect();
+    let families = AtomicUsize::new(0);
+    let calibration = calibrate_bands(dataset, &models, crate::CODE_VERSION, &|family| {
+        let k = families.fetch_add(1, Ordering::Relaxed) + 1;
+        eprintln!("  bands: [{k}] solved the scenes of `{family}` with its fold's models");
+    })
+    .context("calibrating the bands of solve")?;
+    calibration.save(out)?;
+    println!(
+        "bands of solve calibrated on {} folds (one of the {} left out each) in {:.1} s:",
+        calibration.folds,
+        calibration.held_out,
+        t.elapsed().as_secs_f64()
+    );
+    for c in &calibration.closures {
+        println!(
+            "  {:<8} {} scenes ({} stalled), held-out bins covered at 90 %: u {}, phi_loc {}, \
+             mu {}",
+            c.closure,
+            c.scenes,
+            c.failed,
+            percent(c.fold_coverage[0]),
+            percent(c.fold_coverage[1]),
+            percent(c.fold_coverage[2])
+        );
+    }
     Ok(())
 }
 
@@ -132,6 +241,44 @@ fn tune(
         errors_by_output(mapping.outputs, &tuning.untuned.per_output)
     );
     Ok(tuning.chosen.params)
+}
+
+/// `model` with its intervals calibrated on the folds of `samples` (those of tuning), and
+/// the study that calibrated them; or the model as it is, with a warning, when the data
+/// hold too few simulations to leave one out.
+fn with_intervals(
+    mapping: &Mapping,
+    model: TrainedModel,
+    samples: &Samples,
+    params: &HyperParameters,
+) -> anyhow::Result<(TrainedModel, Option<IntervalStudy>)> {
+    let t = Instant::now();
+    let study = match IntervalStudy::run(mapping, samples, params, DEFAULT_LEVEL) {
+        Ok(study) => study,
+        Err(e) => {
+            eprintln!(
+                "warning: {}: saved without intervals, which need held-out rows to calibrate \
+                 on: {e}",
+                mapping.name
+            );
+            return Ok((model, None));
+        }
+    };
+    let c = &study.calibration;
+    println!(
+        "{}: {:.0} % intervals calibrated on {} folds (one of the {} left out each) in {:.1} s: \
+         held-out rows covered {}; mean width {}",
+        mapping.name,
+        100.0 * DEFAULT_LEVEL,
+        c.folds,
+        c.held_out,
+        t.elapsed().as_secs_f64(),
+        errors_by_output(mapping.outputs, &c.fold_coverage),
+        widths_by_output(mapping.outputs, &c.fold_mean_width)
+    );
+    let trees = model.fit_quantile_trees(samples, params)?;
+    let model = model.with_intervals(trees, study.calibration.clone())?;
+    Ok((model, Some(study)))
 }
 
 /// Removes `<out>/<mapping>.tuning.json` left by an earlier tuned run: it would describe a

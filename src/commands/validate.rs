@@ -33,7 +33,7 @@ pub struct Args {
     /// columns; profiles are told apart by the `profile` column.
     #[arg(long)]
     data: PathBuf,
-    /// Mappings to validate (mu, theta, dv); all three when absent.
+    /// Mappings to validate (mu, theta, dv, ext); all four when absent.
     #[arg(long = "mapping")]
     mappings: Vec<String>,
     /// Directory for the figures, one SVG per profile; `<models>/validation_plots` when absent.
@@ -43,9 +43,13 @@ pub struct Args {
     /// when absent, the file each model's sidecar names, if it still holds the same bytes.
     #[arg(long)]
     train: Option<PathBuf>,
-    /// Print only a JSON array of records {"mapping", "output", "profile", "rel_l2"}.
+    /// Print only a JSON array of records {"mapping", "output", "profile", "rel_l2",
+    /// "beyond_noise", "coverage", "interval_width"}.
     #[arg(long)]
     json: bool,
+    /// Level of the intervals whose coverage is measured (a probability in (0, 1)).
+    #[arg(long, default_value_t = surrogate::DEFAULT_LEVEL)]
+    level: f64,
 }
 
 /// A loaded model and how it did.
@@ -66,7 +70,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 args.models.display()
             )
         })?;
-        let validation = Validation::run(&model, &data)
+        let validation = Validation::run_at(&model, &data, args.level)
             .with_context(|| format!("validating model `{}`", mapping.name))?;
         warn_skipped(mapping, &validation.samples);
         if let Some(warning) = overlap_warning(&model, &args.models, &data, &validation.samples) {
@@ -102,6 +106,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     for c in &checked {
         print_errors(c);
+        print_coverage(c, args.level);
         print_comparison(c, args.train.as_deref(), &args.models)?;
     }
     print_theta_vs_dv(&checked);
@@ -121,20 +126,16 @@ fn print_errors(c: &Checked) {
         meta.training_data.rows,
         meta.training_data.source
     );
-    println!("  relative L2 error (eq 6.6), outputs scaled with the training ranges:");
-    let width = c
-        .validation
-        .errors
-        .iter()
-        .map(|e| e.profile.len())
-        .max()
-        .unwrap_or(0)
-        .max(26);
+    println!(
+        "  relative L2 error (eq 6.6), outputs scaled with the training ranges, and in brackets \
+         its part beyond the targets' own noise, sqrt(max(0, error^2 - noise^2)):"
+    );
+    let width = profile_width(c);
     let header: String = c
         .mapping
         .outputs
         .iter()
-        .map(|o| format!("{o:>10}"))
+        .map(|o| format!("{o:>21}"))
         .collect();
     println!("  {:<width$} {:>5}{header}", "profile", "rows");
     for error in c
@@ -143,10 +144,14 @@ fn print_errors(c: &Checked) {
         .iter()
         .chain(&c.validation.domain_errors)
     {
-        let cells: String = error
-            .per_output
-            .iter()
-            .map(|&e| format!("{:>10}", percent(e)))
+        let beyond = error.beyond_noise();
+        let cells: String = (0..error.per_output.len())
+            .map(|j| {
+                let b = beyond
+                    .as_ref()
+                    .map_or_else(|| "-".to_owned(), |b| percent(b[j]));
+                format!("{:>10} ({b:>8})", percent(error.per_output[j]))
+            })
             .collect();
         println!("  {:<width$} {:>5}{cells}", error.profile, error.rows);
     }
@@ -155,19 +160,65 @@ fn print_errors(c: &Checked) {
         .outputs
         .iter()
         .map(|o| seeds_validation_error(c.mapping.name, o).map_or_else(|| "-".to_owned(), percent))
-        .map(|cell| format!("{cell:>10}"))
+        .map(|cell| format!("{cell:>10}{:11}", ""))
         .collect();
     println!("  {:<width$} {:>5}{seeds}", "seeds (thesis, all)", "");
     if let Some(noise) = &c.validation.target_noise {
         let cells: String = noise
             .iter()
-            .map(|&e| format!("{:>10}", percent(e)))
+            .map(|&e| format!("{:>10}{:11}", percent(e), ""))
             .collect();
         println!(
             "  {:<width$} {:>5}{cells}",
             "target noise (1 s.e., all)",
             c.validation.samples.n_rows()
         );
+    }
+}
+
+/// The width of the profile column of `c`'s tables: its longest profile, at least 26.
+fn profile_width(c: &Checked) -> usize {
+    c.validation
+        .errors
+        .iter()
+        .map(|e| e.profile.len())
+        .max()
+        .unwrap_or(0)
+        .max(26)
+}
+
+/// The intervals' coverage and mean width per profile and output, beside their coverage on
+/// the calibration folds.
+fn print_coverage(c: &Checked, level: f64) {
+    let Some(intervals) = c.model.intervals() else {
+        println!("  no intervals: the model was saved without them");
+        return;
+    };
+    let calibration = &intervals.calibration;
+    println!(
+        "  {:.0} % intervals: rows inside their interval, and the mean width (output units); \
+         on the {} calibration folds (one of the {} left out each) they covered {} at 90 %",
+        100.0 * level,
+        calibration.folds,
+        calibration.held_out,
+        errors_by_output(c.mapping.outputs, &calibration.fold_coverage)
+    );
+    let width = profile_width(c);
+    for error in c
+        .validation
+        .errors
+        .iter()
+        .chain(&c.validation.domain_errors)
+    {
+        let (Some(coverage), Some(widths)) = (&error.coverage, &error.mean_width) else {
+            continue;
+        };
+        let cells: String = coverage
+            .iter()
+            .zip(widths)
+            .map(|(&k, &w)| format!("{:>10} ({w:>8.4})", percent(k)))
+            .collect();
+        println!("  {:<width$} {:>5}{cells}", error.profile, error.rows);
     }
 }
 

@@ -9,7 +9,8 @@ use schema::columns as col;
 use std::fmt::Write as _;
 use std::path::Path;
 use surrogate::{
-    gain_shares, theta_vs_dv, Dataset, DescriptorStats, Lower, Mapping, TrainedModel, Validation,
+    beyond_noise, gain_shares, theta_vs_dv, Dataset, DescriptorStats, Lower, Mapping, TrainedModel,
+    Validation,
 };
 
 /// Writes the figure into `dir` and returns the section, from the validation set and the
@@ -18,7 +19,8 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
     let data = Dataset::read_csv(validate)?;
     let mut md = String::from("## 5. Theta against Delta_v\n\n");
     md.push_str("Surrogate: relative L2 validation error (eq 6.6) of the mapping that reads Theta and of the one that \
-        reads Delta_v, with the same J and phi inputs and the same outputs.\n\n| profile | output | theta mapping | dv mapping | lower |\n|---|---|---|---|---|\n");
+        reads Delta_v, with the same J and phi inputs and the same outputs; in brackets the part beyond the targets' \
+        own noise, `sqrt(max(0, error^2 - noise^2))`.\n\n| profile | output | theta mapping | dv mapping | noise | lower |\n|---|---|---|---|---|---|\n");
     let load = |name: &str| {
         TrainedModel::load(models, name)
             .with_context(|| format!("loading the {name} model from {}", models.display()))
@@ -34,13 +36,19 @@ pub fn section(validate: &Path, models: &Path, dir: &Path) -> anyhow::Result<Str
             Lower::Dv => "Delta_v",
             Lower::Tie => "tie",
         };
+        let cell = |e: f64| match row.noise {
+            Some(n) => format!("{:.2} % ({:.2} %)", 100.0 * e, 100.0 * beyond_noise(e, n)),
+            None => format!("{:.2} %", 100.0 * e),
+        };
         let _ = writeln!(
             md,
-            "| {} | {} | {:.2} % | {:.2} % | {lower} |",
+            "| {} | {} | {} | {} | {} | {lower} |",
             row.profile,
             row.output,
-            100.0 * row.theta,
-            100.0 * row.dv
+            cell(row.theta),
+            cell(row.dv),
+            row.noise
+                .map_or_else(|| "-".to_owned(), |n| format!("{:.2} %", 100.0 * n))
         );
     }
     let share = |m: &TrainedModel, feature: &str| -> anyhow::Result<f64> {

@@ -4,6 +4,7 @@
 //! rounds changed, and validated on the unseen profiles (relative L2, eq 6.6, all profiles
 //! together); the shipped models are timed predicting one validation profile end to end.
 use crate::plots::loglog::{self, Line};
+use crate::surrogate_text::percent;
 use anyhow::Context;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -23,6 +24,11 @@ pub fn section(train: &Path, validate: &Path, models: &Path, dir: &Path) -> anyh
         tuned hyper-parameters (from `{}`), changing only the number of trees; training time is the median of \
         {FITS} identical fits on one thread (the first fit in a process also pays XGBoost's start-up).\n",
         train.display(), train_data.n_rows(), validate.display(), validate_data.n_rows(), models.display(), FITS = FITS);
+    md.push_str(
+        "Validation error: eq 6.6 on all rows and, in brackets, its part beyond the targets' own \
+         noise, `sqrt(max(0, error^2 - noise^2))` (the noise: the same error of the targets \
+         shifted by their standard errors).\n\n",
+    );
     md.push_str("| mapping | trees | training time (ms) | validation error |\n|---|---|---|---|\n");
     let mut lines = Vec::new();
     for mapping in &MAPPINGS {
@@ -57,7 +63,17 @@ pub fn section(train: &Path, validate: &Path, models: &Path, dir: &Path) -> anyh
                 .iter()
                 .find(|e| e.profile == ALL_PROFILES)
                 .context("validation without an all-profiles entry")?;
-            let errors = crate::surrogate_text::errors_by_output(mapping.outputs, &all.per_output);
+            let errors = match all.beyond_noise() {
+                Some(beyond) => mapping
+                    .outputs
+                    .iter()
+                    .zip(&all.per_output)
+                    .zip(&beyond)
+                    .map(|((o, &e), &b)| format!("{o} {} ({})", percent(e), percent(b)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                None => crate::surrogate_text::errors_by_output(mapping.outputs, &all.per_output),
+            };
             let tuned_mark = if trees == tuned.n_estimators {
                 " (tuned)"
             } else {

@@ -27,6 +27,9 @@ pub mod rheology;
 pub mod validation;
 
 pub use data::dataset::{Dataset, GROUP_COLUMN, PROFILE_COLUMN};
+pub use data::extremum_distance::{
+    distance_to_nearest, extremum_distances, shear_zero_faces, shear_zeros, ShearZero,
+};
 pub use data::mapping::{Mapping, MAPPINGS};
 pub use data::physical_range::{clip_to_physical_range, physical_range, PHI_LOC_MAX};
 pub use data::samples::Samples;
@@ -34,11 +37,16 @@ pub use data::scaling::{MinMaxScaling, Range};
 pub use data::table_kind::TableKind;
 pub use data::training_domain::{DomainCheck, TrainingDomain};
 pub use error::{Result, SurrogateError};
-pub use models::booster::{xgboost_version, Booster, HyperParameters, MultiStrategy};
+pub use models::booster::{xgboost_version, Booster, HyperParameters, MultiStrategy, Objective};
 pub use models::forest::Forest;
+pub use models::intervals::{
+    check_level, conformal_quantile, widen, IntervalCalibration, Intervals, ModelIntervals,
+    DEFAULT_LEVEL, QUANTILE_LEVELS,
+};
 pub use models::metrics::relative_l2_error;
 pub use models::model::{ModelMeta, TrainedModel, TrainingData};
-pub use models::predictor::Predictor;
+pub use models::prediction_table::PredictionTable;
+pub use models::predictor::{Prediction, Predictor};
 pub use rheology::agreement::{agreement, Agreement};
 pub use rheology::ensemble::{build_ensemble, Ensemble, EnsembleSummary, ObservableSummary};
 pub use rheology::flow_curve_fit::{bin_viscosity, FlowCurvePoint, SeededJammingFit};
@@ -67,9 +75,13 @@ pub use validation::family_folds::{
     family_names, leave_one_family_out, tuning_folds, FamilyFold, LeftOut, MIN_TUNING_FAMILIES,
 };
 pub use validation::family_learning_curve::{LearningCurve, LearningPoint};
+pub use validation::interval_calibration::{
+    fraction, interval_score, FoldCoverage, IntervalCoverage, IntervalMethod, IntervalStudy,
+    MethodCoverage, OutputCoverage,
+};
 pub use validation::profile_error::{model_errors, relative_l2};
 pub use validation::profile_rows::{gain_shares, records, theta_vs_dv, Lower, Record, ThetaVsDv};
-pub use validation::target_noise::{output_standard_errors, target_noise};
+pub use validation::target_noise::{beyond_noise, output_standard_errors, target_noise};
 pub use validation::timing::{time_mapping, timed_fit, Timing, FITS};
 pub use validation::training_overlap::{overlap_warning, training_samples};
 pub use validation::tuning::{standard_grid, Tuning};

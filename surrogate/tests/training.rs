@@ -139,11 +139,12 @@ fn rows_on_split_thresholds(
     let path = dir.join(format!("{}.json", mapping.name));
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let base: Vec<f64> = mapping
+    // The mapping's inputs as the model reads them (derived ones, `d_ext`, included).
+    let base: Vec<f64> = Samples::from_dataset(data, mapping)
+        .unwrap()
         .features
-        .iter()
-        .map(|f| data.column(f).unwrap()[0])
-        .collect();
+        .row(0)
+        .to_vec();
     let mut csv = mapping.features.join(",") + "\n";
     let trees = json["learner"]["gradient_booster"]["model"]["trees"]
         .as_array()

@@ -153,6 +153,59 @@ impl Dataset {
         &self.names
     }
 
+    /// This dataset with the column `name` added after the others, its cells `values` (an
+    /// empty cell for NaN, an undefined value); the source's name and fingerprint are kept,
+    /// since the column is derived from it. Refuses a name already present or a count of
+    /// values other than the rows'.
+    pub fn with_column(&self, name: &str, values: &[f64]) -> Result<Dataset> {
+        if self.names.iter().any(|n| n == name) || values.len() != self.n_rows {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "{}: cannot add column `{name}` of {} values to {} rows with columns [{}]",
+                self.source_name,
+                values.len(),
+                self.n_rows,
+                self.names.join(", ")
+            )));
+        }
+        let text = values
+            .iter()
+            .map(|v| {
+                if v.is_nan() {
+                    String::new()
+                } else {
+                    format!("{v:e}")
+                }
+            })
+            .collect();
+        let mut with = self.clone();
+        with.names.push(name.to_owned());
+        with.columns.push(Column::new(text));
+        Ok(with)
+    }
+
+    /// The rows `rows` (0-based, in that order) of this dataset, every column kept; the
+    /// source's name and fingerprint are kept too (the rows came from it). Refuses an index
+    /// out of range or no rows.
+    pub fn select_rows(&self, rows: &[usize]) -> Result<Dataset> {
+        if rows.is_empty() || rows.iter().any(|&r| r >= self.n_rows) {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "{}: cannot select rows {:?} of {}",
+                self.source_name,
+                rows.iter().take(5).collect::<Vec<_>>(),
+                self.n_rows
+            )));
+        }
+        let mut with = self.clone();
+        with.columns = self
+            .columns
+            .iter()
+            .map(|c| Column::new(rows.iter().map(|&r| c.text[r].clone()).collect()))
+            .collect();
+        with.lines = rows.iter().map(|&r| self.line(r)).collect();
+        with.n_rows = rows.len();
+        Ok(with)
+    }
+
     /// The line of the source on which data row `row` (0-based) starts; the header is line 1.
     pub fn line(&self, row: usize) -> u64 {
         self.lines.get(row).copied().unwrap_or(row as u64 + 2)

@@ -14,8 +14,9 @@ pub struct Mapping {
     pub outputs: &'static [&'static str],
 }
 
-/// The three mappings of docs/physics.md section 8.
-pub const MAPPINGS: [Mapping; 3] = [
+/// The thesis' three mappings of docs/physics.md section 8, with local inputs, and `ext`,
+/// whose input `d_ext` is nonlocal.
+pub const MAPPINGS: [Mapping; 4] = [
     // Motivated by the scaling law J/mu = alpha (phi_J - phi_loc)^2 (thesis eq 6.7).
     Mapping {
         name: "mu",
@@ -32,6 +33,14 @@ pub const MAPPINGS: [Mapping; 3] = [
     Mapping {
         name: "dv",
         features: &[col::J, col::DELTA_V, col::PHI],
+        outputs: &[col::PHI_LOC, col::MU],
+    },
+    // A nonlocal input: the distance to the nearest velocity extremum, where the stress
+    // passes through zero (crate::data::extremum_distance), from the profile's velocities,
+    // which the profile solver has among its unknowns.
+    Mapping {
+        name: "ext",
+        features: &[col::J, col::PHI, col::EXTREMUM_DISTANCE],
         outputs: &[col::PHI_LOC, col::MU],
     },
 ];

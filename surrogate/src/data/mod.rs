@@ -2,6 +2,7 @@
 //! samples, the outputs' scaling and physical ranges, and the training domain.
 
 pub mod dataset;
+pub mod extremum_distance;
 pub(crate) mod files;
 pub mod mapping;
 pub mod physical_range;

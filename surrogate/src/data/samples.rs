@@ -4,6 +4,7 @@
 use ndarray::{Array2, Axis};
 
 use crate::data::dataset::Dataset;
+use crate::data::extremum_distance::with_derived_features;
 use crate::data::mapping::Mapping;
 use crate::data::physical_range::measured_range;
 use crate::error::{Result, SurrogateError};
@@ -41,6 +42,7 @@ impl Samples {
     /// the rows where none of those cells is empty. Text, NaN or an infinity in any of those
     /// cells is an error naming its row, and so is a dataset left without rows.
     pub fn from_dataset(dataset: &Dataset, mapping: &Mapping) -> Result<Self> {
+        let dataset = &*with_derived_features(dataset, mapping.features)?;
         let columns: Vec<&str> = mapping
             .features
             .iter()

@@ -10,7 +10,9 @@
 //! Coordinates: each feature is min-max scaled on the training rows; a feature whose
 //! training values are all positive and span more than [`LOG_SPAN`] (J and Delta_v: bins near
 //! a velocity extremum have J near 0, Delta_v spikes where u_inf crosses 0) is scaled on its
-//! logarithm, so that a factor of two counts the same at small and large values.
+//! logarithm, so that a factor of two counts the same at small and large values. The
+//! distance to a velocity extremum, d_ext, is the exception: linear, its range from 0
+//! ([`FeatureAxis::linear_from_zero`]).
 //!
 //! Scene-level features: a feature that is the same in every row of each training
 //! simulation (the volume fraction phi) is a parameter of the scene that the grid samples at
@@ -37,6 +39,7 @@ use serde::{Deserialize, Serialize};
 use crate::data::samples::Samples;
 use crate::data::scaling::Range;
 use crate::error::{Result, SurrogateError};
+use schema::columns as col;
 
 /// Ratio `max / min` of a positive feature beyond which it is scaled on its logarithm.
 pub const LOG_SPAN: f64 = 100.0;
@@ -74,6 +77,21 @@ impl FeatureAxis {
             range,
             log,
             scene_level,
+        }
+    }
+
+    /// The axis of the distance to a velocity extremum, d_ext: linear, from 0. Every
+    /// training profile has bins at all distances down to its extrema's, and a bin centred on
+    /// an extremum (d_ext = 0, as a symmetric forcing places it) is no extrapolation; on a log
+    /// axis it would lie infinitely far below the range.
+    fn linear_from_zero(self) -> Self {
+        FeatureAxis {
+            range: Range {
+                min: self.range.min.min(0.0),
+                max: self.range.max,
+            },
+            log: false,
+            ..self
         }
     }
 
@@ -144,7 +162,15 @@ impl TrainingDomain {
         let groups = &samples.groups;
         let axes: Vec<FeatureAxis> = features
             .axis_iter(Axis(1))
-            .map(|column| FeatureAxis::fit(column, groups))
+            .zip(&samples.feature_names)
+            .map(|(column, name)| {
+                let axis = FeatureAxis::fit(column, groups);
+                if name == col::EXTREMUM_DISTANCE {
+                    axis.linear_from_zero()
+                } else {
+                    axis
+                }
+            })
             .collect();
         let points = coordinates(&axes, features);
         let n_features = axes.len();

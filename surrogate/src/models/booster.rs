@@ -38,8 +38,9 @@ impl MultiStrategy {
     }
 }
 
-/// Training settings. The objective is always `reg:squarederror` (thesis eq 6.5) and the tree
-/// method `hist`. Defaults are XGBoost's own, as the thesis trained without tuning, except
+/// Training settings. The objective is `reg:squarederror` (thesis eq 6.5) for the models
+/// themselves and `reg:quantileerror` for their intervals' quantile trees ([`Objective`]), the
+/// tree method `hist`. Defaults are XGBoost's own, as the thesis trained without tuning, except
 /// `nthread`, which is 1 so that training is reproducible and leaves the other core free.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct HyperParameters {
@@ -94,11 +95,42 @@ impl Default for HyperParameters {
     }
 }
 
+/// What the trees minimise.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Objective {
+    /// The squared error (thesis eq 6.5): the trees predict the mean.
+    SquaredError,
+    /// The pinball loss at each of these levels (XGBoost's `reg:quantileerror` with
+    /// `quantile_alpha`): one output per level, the conditional quantile, of a single label.
+    Quantiles(Vec<f64>),
+}
+
+impl Objective {
+    fn as_xgboost_params(&self) -> Vec<(&'static str, String)> {
+        match self {
+            Objective::SquaredError => vec![("objective", "reg:squarederror".to_owned())],
+            Objective::Quantiles(levels) => vec![
+                ("objective", "reg:quantileerror".to_owned()),
+                (
+                    "quantile_alpha",
+                    format!(
+                        "[{}]",
+                        levels
+                            .iter()
+                            .map(f64::to_string)
+                            .collect::<Vec<_>>()
+                            .join(",")
+                    ),
+                ),
+            ],
+        }
+    }
+}
+
 impl HyperParameters {
-    /// The settings as XGBoost parameter names and values.
+    /// The settings as XGBoost parameter names and values, the objective apart.
     fn as_xgboost_params(&self) -> Vec<(&'static str, String)> {
         vec![
-            ("objective", "reg:squarederror".to_owned()),
             ("tree_method", "hist".to_owned()),
             // The middle of the min-max scaled range [0, 1].
             ("base_score", "0.5".to_owned()),
@@ -152,13 +184,48 @@ impl From<xgb::XGBError> for SurrogateError {
 
 impl Booster {
     /// Trains on `features` (rows x features) to predict `labels` (rows x outputs), with
-    /// `feature_names` stored in the model (Python's xgboost shows them).
+    /// `feature_names` stored in the model (Python's xgboost shows them), minimising the
+    /// squared error.
     pub fn train(
         features: ArrayView2<f64>,
         labels: ArrayView2<f64>,
         feature_names: &[&str],
         params: &HyperParameters,
     ) -> Result<Self> {
+        Self::train_for(
+            features,
+            labels,
+            feature_names,
+            params,
+            &Objective::SquaredError,
+        )
+    }
+
+    /// [`Booster::train`] with `objective`; [`Objective::Quantiles`] takes one label column
+    /// and predicts one output per level.
+    pub fn train_for(
+        features: ArrayView2<f64>,
+        labels: ArrayView2<f64>,
+        feature_names: &[&str],
+        params: &HyperParameters,
+        objective: &Objective,
+    ) -> Result<Self> {
+        let n_outputs = match objective {
+            Objective::SquaredError => labels.ncols(),
+            Objective::Quantiles(levels) => {
+                if labels.ncols() != 1
+                    || levels.is_empty()
+                    || levels.iter().any(|l| !(*l > 0.0 && *l < 1.0))
+                {
+                    return Err(SurrogateError::InvalidArgument(format!(
+                        "quantile trees take one label column and levels in (0, 1); got {} \
+                         column(s) and levels {levels:?}",
+                        labels.ncols()
+                    )));
+                }
+                levels.len()
+            }
+        };
         if features.nrows() == 0 {
             return Err(SurrogateError::EmptyDataset {
                 what: "the training set".to_owned(),
@@ -188,7 +255,11 @@ impl Booster {
         // `xgb` first applies its own parameter defaults; every setting that matters is
         // overridden right after.
         let mut inner = xgb::Booster::new_with_cached_dmats(&Default::default(), &[&dtrain])?;
-        for (name, value) in params.as_xgboost_params() {
+        for (name, value) in objective
+            .as_xgboost_params()
+            .into_iter()
+            .chain(params.as_xgboost_params())
+        {
             inner.set_param(name, &value)?;
         }
         inner.set_feature_names(&feature_names.to_vec())?;
@@ -199,7 +270,7 @@ impl Booster {
         Ok(Booster {
             inner,
             n_features: features.ncols(),
-            n_outputs: labels.ncols(),
+            n_outputs,
             feature_names: feature_names.iter().map(|&n| n.to_owned()).collect(),
         })
     }
@@ -305,7 +376,7 @@ impl Booster {
     }
 
     /// The model as XGBoost JSON bytes.
-    fn to_json(&self) -> Result<Vec<u8>> {
+    pub(crate) fn to_json(&self) -> Result<Vec<u8>> {
         let mut json = self.inner.save_buffer(false)?;
         // The C API may count a terminating NUL in the length.
         if json.last() == Some(&0) {

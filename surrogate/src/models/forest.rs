@@ -8,14 +8,18 @@
 //! split node with feature `i` and threshold `t` sends `x` left when `x_i < t` and right
 //! otherwise, a leaf's value is its `split_conditions` entry, and output `k` is `base_score_k`
 //! plus the values of the leaves reached in the trees whose `tree_info` is `k`, summed in
-//! f32 in tree order. With `reg:squarederror` that margin is the prediction. Tests check it
-//! against the library's own predictions.
+//! f32 in tree order. With `reg:squarederror` and `reg:quantileerror` that margin is the
+//! prediction. Tests check it against the library's own predictions.
 
 use ndarray::{Array2, ArrayView2};
 
 use crate::error::{Result, SurrogateError};
 use crate::models::f32_input::to_f32;
 use crate::models::xgboost_json::{ModelJson, TreeJson};
+
+/// The objectives whose prediction is the margin itself (an identity link), which is what
+/// [`Forest::predict`] computes: the squared error's mean and the pinball loss's quantiles.
+const EVALUATED_OBJECTIVES: [&str; 2] = ["reg:squarederror", "reg:quantileerror"];
 
 /// The trees of one model.
 #[derive(Debug, Clone)]
@@ -67,9 +71,10 @@ impl Forest {
         let model: ModelJson = crate::data::files::parse_json_bytes(bytes, "an XGBoost JSON model")
             .map_err(unreadable)?;
         let learner = model.learner;
-        if learner.objective.name != "reg:squarederror" {
+        if !EVALUATED_OBJECTIVES.contains(&learner.objective.name.as_str()) {
             return Err(format_error(format!(
-                "objective `{}`, but only reg:squarederror is evaluated here",
+                "objective `{}`, but only reg:squarederror and reg:quantileerror are evaluated \
+                 here",
                 learner.objective.name
             )));
         }

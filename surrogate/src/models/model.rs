@@ -8,6 +8,7 @@ use schema::Fingerprint;
 use serde::{Deserialize, Serialize};
 
 use crate::data::dataset::Dataset;
+use crate::data::extremum_distance::with_derived_features;
 use crate::data::files;
 use crate::data::mapping::Mapping;
 use crate::data::physical_range::clip_to_physical_range;
@@ -15,7 +16,10 @@ use crate::data::samples::Samples;
 use crate::data::scaling::MinMaxScaling;
 use crate::data::training_domain::TrainingDomain;
 use crate::error::{name_differences, Result, SurrogateError};
-use crate::models::booster::{xgboost_version, Booster, HyperParameters};
+use crate::models::booster::{xgboost_version, Booster, HyperParameters, Objective};
+use crate::models::intervals::{
+    load_intervals, tree_targets, IntervalCalibration, Intervals, ModelIntervals, QUANTILE_LEVELS,
+};
 use crate::models::metrics::relative_l2_error;
 use crate::models::xgboost_json::ShapeJson;
 use crate::rheology::backbone::Backbone;
@@ -56,12 +60,14 @@ pub struct TrainingData {
     pub skipped_rows: usize,
 }
 
-/// A booster with its sidecar and the training domain of its features.
+/// A booster with its sidecar, the training domain of its features and, once calibrated, its
+/// prediction intervals ([`crate::models::intervals`]).
 #[derive(Debug)]
 pub struct TrainedModel {
     meta: ModelMeta,
     booster: Booster,
     domain: TrainingDomain,
+    intervals: Option<ModelIntervals<Booster>>,
 }
 
 impl TrainedModel {
@@ -107,7 +113,75 @@ impl TrainedModel {
             meta,
             booster,
             domain,
+            intervals: None,
         })
+    }
+
+    /// The quantile trees of this model's intervals on `samples` (the rows it was trained on,
+    /// or a fold's): per output, one booster with `params`' settings and the pinball loss at
+    /// the [`QUANTILE_LEVELS`], learning what the model's trees learn.
+    pub fn fit_quantile_trees(
+        &self,
+        samples: &Samples,
+        params: &HyperParameters,
+    ) -> Result<Vec<Booster>> {
+        check_columns(samples, &self.meta.features, &self.meta.outputs)?;
+        let targets = tree_targets(&self.meta, samples.features.view(), samples.outputs.view())?;
+        let names: Vec<&str> = self.meta.features.iter().map(String::as_str).collect();
+        let objective = Objective::Quantiles(QUANTILE_LEVELS.to_vec());
+        targets
+            .columns()
+            .into_iter()
+            .map(|column| {
+                let labels = column.insert_axis(ndarray::Axis(1));
+                Booster::train_for(samples.features.view(), labels, &names, params, &objective)
+            })
+            .collect()
+    }
+
+    /// This model with the intervals of `trees` ([`TrainedModel::fit_quantile_trees`] on its
+    /// training rows) calibrated by `calibration`, which must be of its outputs and training.
+    pub fn with_intervals(
+        mut self,
+        trees: Vec<Booster>,
+        calibration: IntervalCalibration,
+    ) -> Result<Self> {
+        calibration.check(&self.meta, Path::new(&self.meta.mapping))?;
+        if trees.len() != self.meta.outputs.len() {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "{} quantile boosters for {} outputs",
+                trees.len(),
+                self.meta.outputs.len()
+            )));
+        }
+        self.intervals = Some(ModelIntervals { calibration, trees });
+        Ok(self)
+    }
+
+    /// The XGBoost booster of the model's own trees.
+    pub(crate) fn booster(&self) -> &Booster {
+        &self.booster
+    }
+
+    /// The calibrated intervals, if the model has them.
+    pub fn intervals(&self) -> Option<&ModelIntervals<Booster>> {
+        self.intervals.as_ref()
+    }
+
+    /// The intervals at `level` of the predictions for rows `features`; `None` for a model
+    /// without calibrated intervals.
+    pub fn predict_intervals(
+        &self,
+        features: ArrayView2<f64>,
+        level: f64,
+    ) -> Result<Option<Intervals>> {
+        let Some(intervals) = &self.intervals else {
+            return Ok(None);
+        };
+        let point = self.predict_features(features)?;
+        intervals
+            .intervals(&self.meta, features, point.view(), level)
+            .map(Some)
     }
 
     /// The sidecar.
@@ -151,29 +225,52 @@ impl TrainedModel {
     }
 
     /// Writes `<dir>/<mapping>.json` (the booster, XGBoost JSON), `<dir>/<mapping>.meta.json`
-    /// and `<dir>/<mapping>.domain.json`, creating `dir` if needed.
+    /// and `<dir>/<mapping>.domain.json`, and the intervals' calibration
+    /// `<dir>/<mapping>.intervals.json` and quantile trees `<dir>/<mapping>.quantiles_<output>.json`
+    /// (XGBoost JSON) when the model has them (removing an earlier training's when it has
+    /// not), creating `dir` if needed.
     pub fn save(&self, dir: &Path) -> Result<()> {
         files::create_dir_all(dir)?;
-        let paths = ModelPaths::new(dir, &self.meta.mapping);
+        let name = &self.meta.mapping;
+        let paths = ModelPaths::new(dir, name);
         self.booster.save_json(&paths.trees)?;
         files::write_json(&paths.meta, &self.meta)?;
-        files::write_json(&paths.domain, &self.domain)
+        files::write_json(&paths.domain, &self.domain)?;
+        let calibration = IntervalCalibration::path(dir, name);
+        match &self.intervals {
+            Some(intervals) => {
+                for (output, trees) in self.meta.outputs.iter().zip(&intervals.trees) {
+                    trees.save_json(&IntervalCalibration::trees_path(dir, name, output))?;
+                }
+                files::write_json(&calibration, &intervals.calibration)
+            }
+            None => {
+                let stale = self
+                    .meta
+                    .outputs
+                    .iter()
+                    .map(|o| IntervalCalibration::trees_path(dir, name, o))
+                    .chain([calibration]);
+                for path in stale {
+                    files::remove_if_present(&path)?;
+                }
+                Ok(())
+            }
+        }
     }
 
     /// Reads the model of mapping `name` saved in `dir`, checking that the sidecar, the
     /// booster and the mapping's current definition agree on features and outputs.
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         // XGBoost reads the trees itself; their count is checked where they are walked.
-        let (meta, booster, domain) = ModelMeta::load_with(
-            dir,
-            name,
-            |path, json| Booster::from_json(json, path),
-            |_| None,
-        )?;
+        let read = |path: &Path, json: &[u8]| Booster::from_json(json, path);
+        let (meta, booster, domain) = ModelMeta::load_with(dir, name, read, |_| None)?;
+        let intervals = load_intervals(dir, &meta, read, |b| (b.n_features(), b.n_outputs()))?;
         Ok(TrainedModel {
             meta,
             booster,
             domain,
+            intervals,
         })
     }
 }
@@ -201,6 +298,13 @@ impl ModelMeta {
         } else {
             beside
         }
+    }
+
+    /// The hyper-parameters of the model of mapping `name` saved in `dir` (its sidecar's).
+    pub fn load_params(dir: &Path, name: &str) -> Result<HyperParameters> {
+        let meta: ModelMeta =
+            files::read_json(&ModelPaths::new(dir, name).meta, "a model sidecar")?;
+        Ok(meta.hyper_parameters)
     }
 
     /// How `train` records `data` for a model saved in `model_dir` ([`ModelMeta::training_file`]
@@ -249,6 +353,7 @@ impl ModelMeta {
     /// The feature columns of `dataset`, in the model's order, as a matrix of finite numbers;
     /// a missing column is a [`SurrogateError::FeatureMismatch`].
     pub fn feature_matrix(&self, dataset: &Dataset) -> Result<Array2<f64>> {
+        let dataset = &*with_derived_features(dataset, &self.features)?;
         let available = dataset.column_names();
         let missing: Vec<&str> = self
             .features

@@ -11,14 +11,27 @@ use crate::data::dataset::Dataset;
 use crate::data::training_domain::{DomainCheck, TrainingDomain};
 use crate::error::Result;
 use crate::models::forest::Forest;
-use crate::models::model::ModelMeta;
+use crate::models::intervals::{check_level, load_intervals, widen, Intervals, ModelIntervals};
+use crate::models::model::{ModelMeta, TrainedModel};
 
-/// A saved model, ready to predict.
+/// A saved model, ready to predict, with its intervals when it was saved with them.
 #[derive(Debug, Clone)]
 pub struct Predictor {
     meta: ModelMeta,
     forest: Forest,
     domain: TrainingDomain,
+    intervals: Option<ModelIntervals<Forest>>,
+}
+
+/// Predictions for the rows of a table, with their intervals.
+#[derive(Debug, Clone)]
+pub struct Prediction {
+    /// Rows x outputs, original units, clipped into the physical range.
+    pub values: Array2<f64>,
+    /// Predicted values that left their physical range and were clipped.
+    pub clipped: usize,
+    /// The intervals at the level asked for; `None` for a model saved without them.
+    pub intervals: Option<Intervals>,
 }
 
 impl Predictor {
@@ -29,11 +42,96 @@ impl Predictor {
             |path: &Path, json: &[u8]| Forest::from_json(json, &path.display().to_string());
         let (meta, forest, domain) =
             ModelMeta::load_with(dir, name, read_trees, |f| Some(f.n_trees()))?;
+        let intervals =
+            load_intervals(dir, &meta, read_trees, |f| (f.n_features(), f.n_outputs()))?;
         Ok(Predictor {
             meta,
             forest,
             domain,
+            intervals,
         })
+    }
+
+    /// The predictor of a model trained in this process, as [`Predictor::load`] would read it
+    /// back after [`TrainedModel::save`] (its trees through their XGBoost JSON).
+    pub fn of(model: &TrainedModel) -> Result<Self> {
+        let forest = |booster: &crate::models::booster::Booster| {
+            Forest::from_json(&booster.to_json()?, "a model trained in this process")
+        };
+        let intervals = model
+            .intervals()
+            .map(|i| -> Result<_> {
+                Ok(ModelIntervals {
+                    calibration: i.calibration.clone(),
+                    trees: i.trees.iter().map(forest).collect::<Result<Vec<_>>>()?,
+                })
+            })
+            .transpose()?;
+        Ok(Predictor {
+            meta: model.meta().clone(),
+            forest: forest(model.booster())?,
+            domain: model.domain().clone(),
+            intervals,
+        })
+    }
+
+    /// The intervals' quantile trees and calibration, if the model was saved with them.
+    pub fn intervals(&self) -> Option<&ModelIntervals<Forest>> {
+        self.intervals.as_ref()
+    }
+
+    /// Predictions for the feature columns of `dataset`, with their intervals at `level`.
+    pub fn predict_with_intervals(&self, dataset: &Dataset, level: f64) -> Result<Prediction> {
+        check_level(level)?;
+        let features = self.meta.feature_matrix(dataset)?;
+        let scaled = self.forest.predict(features.view())?;
+        let (values, clipped) = self
+            .meta
+            .outputs_counting_clips(features.view(), scaled.view())?;
+        let intervals = self
+            .intervals
+            .as_ref()
+            .map(|i| i.intervals(&self.meta, features.view(), values.view(), level))
+            .transpose()?;
+        Ok(Prediction {
+            values,
+            clipped,
+            intervals,
+        })
+    }
+
+    /// The interval at `level` of [`Predictor::expected_outputs`] for one row `x`, each
+    /// feature spread over `x_i +- half_width_i`: the quantile trees' expected ends widened
+    /// by the margins ([`crate::models::intervals::widen`]), as `(lower, upper)` per output;
+    /// `None` for a model without intervals.
+    pub fn expected_interval(
+        &self,
+        x: &[f64],
+        half_width: &[f64],
+        level: f64,
+    ) -> Result<Option<Intervals>> {
+        let Some(intervals) = &self.intervals else {
+            return Ok(None);
+        };
+        let n = self.meta.outputs.len();
+        let (mut low, mut high) = (Array2::zeros((1, n)), Array2::zeros((1, n)));
+        for (j, trees) in intervals.trees.iter().enumerate() {
+            let q = trees.expected(x, half_width);
+            low[[0, j]] = q[0];
+            high[[0, j]] = q[1];
+        }
+        let features = ArrayView2::from_shape((1, x.len()), x)
+            .map_err(|e| crate::error::SurrogateError::InvalidArgument(e.to_string()))?;
+        let point = Array2::from_shape_vec((1, n), self.expected_outputs(x, half_width)?)
+            .map_err(|e| crate::error::SurrogateError::InvalidArgument(e.to_string()))?;
+        Ok(Some(widen(
+            &self.meta.outputs,
+            point.view(),
+            self.meta.outputs(features, low.view())?.view(),
+            self.meta.outputs(features, high.view())?.view(),
+            &intervals.calibration.margins(level)?,
+            level,
+        )))
     }
 
     /// The sidecar.

@@ -23,7 +23,7 @@ use crate::models::metrics::relative_l2_error;
 use crate::models::model::TrainedModel;
 use crate::rheology::backbone::Backbone;
 use crate::validation::family_folds::{leave_one_family_out, FamilyFold};
-use crate::validation::target_noise::target_noise;
+use crate::validation::target_noise::{beyond_noise, target_noise};
 
 /// One way of predicting the outputs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -62,6 +62,11 @@ pub struct RowErrors {
     /// Mean absolute error `<|predicted - truth|>` of each output, in the output's own units
     /// (mu and phi_loc: dimensionless); `None` as `per_output`.
     pub mean_absolute: Option<Vec<f64>>,
+    /// `per_output` beyond the held-out targets' own noise ([`beyond_noise`]), on the class of
+    /// all held-out rows, where the noise is measured; `None` on the others, without
+    /// standard errors, or as `per_output`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub beyond_noise: Option<Vec<f64>>,
 }
 
 /// One variant's errors on one fold.
@@ -101,6 +106,9 @@ pub struct MeanErrors {
     pub per_output: Option<Vec<f64>>,
     /// Mean over the same families of each output's mean absolute error (output units).
     pub mean_absolute: Option<Vec<f64>>,
+    /// Mean over the same families of each output's error beyond noise, where known.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub beyond_noise: Option<Vec<f64>>,
 }
 
 /// One variant's errors averaged over the families.
@@ -248,9 +256,15 @@ fn fold_errors(
                 rows,
             )
         });
+        let mut all = all?;
+        all.beyond_noise = all
+            .per_output
+            .as_ref()
+            .zip(target_noise.as_ref())
+            .map(|(e, n)| e.iter().zip(n).map(|(&e, &n)| beyond_noise(e, n)).collect());
         variants.push(VariantErrors {
             variant,
-            all: all?,
+            all,
             in_domain: in_domain?,
             out_of_domain: out_of_domain?,
             not_applicable: predicted.err(),
@@ -288,6 +302,7 @@ fn row_errors(
         rows: rows.len(),
         per_output,
         mean_absolute,
+        beyond_noise: None,
     })
 }
 
@@ -299,10 +314,12 @@ fn mean_errors<'a>(errors: impl Iterator<Item = &'a RowErrors> + Clone) -> MeanE
     };
     let (families, per_output) = mean(|e| e.per_output.as_ref());
     let (_, mean_absolute) = mean(|e| e.mean_absolute.as_ref());
+    let (with_noise, beyond_noise) = mean(|e| e.beyond_noise.as_ref());
     MeanErrors {
         families,
         per_output,
         mean_absolute,
+        beyond_noise: beyond_noise.filter(|_| with_noise == families),
     }
 }
 

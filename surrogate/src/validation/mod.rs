@@ -10,6 +10,7 @@ pub mod cross_validation;
 pub mod family_cv;
 pub mod family_folds;
 pub mod family_learning_curve;
+pub mod interval_calibration;
 pub mod profile_error;
 pub mod profile_rows;
 pub mod target_noise;

@@ -7,13 +7,20 @@ use crate::data::mapping::Mapping;
 use crate::validation::unseen_profiles::Validation;
 
 /// One relative L2 error (eq 6.6, a fraction) of one output of a mapping on one profile
-/// (or all of them, or the rows in or out of the training domain).
+/// (or all of them, or the rows in or out of the training domain), with the part of it
+/// beyond the targets' own noise, and the coverage and mean width of the intervals.
 #[derive(Serialize)]
 pub struct Record<'a> {
     pub mapping: &'a str,
     pub output: &'a str,
     pub profile: &'a str,
     pub rel_l2: f64,
+    /// `None` (JSON null) without standard errors in the table.
+    pub beyond_noise: Option<f64>,
+    /// Fraction of the rows inside their interval, and the intervals' mean width (output
+    /// units); `None` for a model without intervals.
+    pub coverage: Option<f64>,
+    pub interval_width: Option<f64>,
 }
 
 /// The records of `validation` of `mapping`: output by output, each profile then the
@@ -27,6 +34,9 @@ pub fn records<'a>(mapping: &'a Mapping, validation: &'a Validation) -> Vec<Reco
                 output,
                 profile: &error.profile,
                 rel_l2: error.per_output[j],
+                beyond_noise: error.beyond_noise().map(|b| b[j]),
+                coverage: error.coverage.as_ref().map(|c| c[j]),
+                interval_width: error.mean_width.as_ref().map(|w| w[j]),
             });
         }
     }
@@ -48,6 +58,9 @@ pub struct ThetaVsDv<'a> {
     pub output: &'a str,
     pub theta: f64,
     pub dv: f64,
+    /// The profile's targets' own noise in the same measure (the two models share the
+    /// training ranges); `None` without standard errors.
+    pub noise: Option<f64>,
 }
 
 impl ThetaVsDv<'_> {
@@ -81,6 +94,7 @@ pub fn theta_vs_dv<'a>(
                 output,
                 theta: t.per_output[j],
                 dv: d.per_output[j],
+                noise: t.target_noise.as_ref().map(|n| n[j]),
             });
         }
     }

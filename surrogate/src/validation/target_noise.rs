@@ -46,6 +46,14 @@ pub fn target_noise(
     )
 }
 
+/// The part of an error beyond the targets' own noise, `sqrt(max(0, error^2 - noise^2))`
+/// (issue 52): what a better model could still gain if the model's error and the noise of
+/// the targets it is scored against are independent (their squares add). Both in one
+/// measure (eq 6.6 fractions, or absolute errors).
+pub fn beyond_noise(error: f64, noise: f64) -> f64 {
+    (error * error - noise * noise).max(0.0).sqrt()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -62,5 +70,12 @@ mod tests {
         let noise = target_noise(&scaling, outputs.view(), se.view()).unwrap();
         let expected = (3.0 * 0.05f64.powi(2) / 1.25).sqrt();
         assert!((noise[0] - expected).abs() < 1e-12, "{noise:?} {expected}");
+    }
+
+    #[test]
+    fn the_error_beyond_noise_subtracts_in_quadrature_and_never_goes_negative() {
+        assert!((beyond_noise(0.05, 0.03) - 0.04).abs() < 1e-15);
+        assert_eq!(beyond_noise(0.02, 0.03), 0.0);
+        assert_eq!(beyond_noise(0.05, 0.0), 0.05);
     }
 }

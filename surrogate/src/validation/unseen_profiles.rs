@@ -2,14 +2,16 @@
 //! the relative L2 error (eq 6.6) of each output on each validation profile and on all of
 //! them together, on outputs scaled with the training ranges stored in the model.
 
-use ndarray::Array2;
+use ndarray::{Array2, Axis};
 
 use crate::data::dataset::{Dataset, PROFILE_COLUMN};
 use crate::data::mapping::Mapping;
 use crate::data::samples::Samples;
 use crate::error::Result;
+use crate::models::intervals::{mean_widths, Intervals, DEFAULT_LEVEL};
 use crate::models::model::TrainedModel;
-use crate::validation::target_noise::{output_standard_errors, target_noise};
+use crate::validation::interval_calibration::fraction;
+use crate::validation::target_noise::{beyond_noise, output_standard_errors, target_noise};
 
 /// The name under which the errors over all validation rows together are reported.
 pub const ALL_PROFILES: &str = "all";
@@ -44,6 +46,27 @@ pub struct ProfileError {
     pub rows: usize,
     /// Relative L2 error of each output (eq 6.6), as a fraction.
     pub per_output: Vec<f64>,
+    /// The group's targets' own noise per output ([`Validation::target_noise`] on these
+    /// rows); `None` without standard errors.
+    pub target_noise: Option<Vec<f64>>,
+    /// Per output, the fraction of the rows inside their interval and the mean width of the
+    /// intervals (output units); `None` for a model without intervals.
+    pub coverage: Option<Vec<f64>>,
+    pub mean_width: Option<Vec<f64>>,
+}
+
+impl ProfileError {
+    /// Each output's error beyond the targets' own noise ([`beyond_noise`]); `None` without
+    /// standard errors.
+    pub fn beyond_noise(&self) -> Option<Vec<f64>> {
+        self.target_noise.as_ref().map(|noise| {
+            self.per_output
+                .iter()
+                .zip(noise)
+                .map(|(&e, &n)| beyond_noise(e, n))
+                .collect()
+        })
+    }
 }
 
 /// A model's predictions and errors on a validation dataset.
@@ -55,6 +78,8 @@ pub struct Validation {
     pub profiles: Vec<String>,
     /// Predictions in original units, one row per row of `samples`.
     pub predicted: Array2<f64>,
+    /// Their intervals at the level asked for; `None` for a model without intervals.
+    pub intervals: Option<Intervals>,
     /// One entry per profile, in order of first appearance in the dataset, then one for
     /// [`ALL_PROFILES`]. A profile all of whose rows were left out has no entry.
     pub errors: Vec<ProfileError>,
@@ -71,10 +96,20 @@ pub struct Validation {
 }
 
 impl Validation {
-    /// Predicts `dataset` with `model` and measures the errors per profile and overall.
+    /// Predicts `dataset` with `model` and measures the errors per profile and overall, with
+    /// the intervals at [`DEFAULT_LEVEL`].
     pub fn run(model: &TrainedModel, dataset: &Dataset) -> Result<Self> {
+        Self::run_at(model, dataset, DEFAULT_LEVEL)
+    }
+
+    /// [`Validation::run`] with the intervals at `level`.
+    pub fn run_at(model: &TrainedModel, dataset: &Dataset, level: f64) -> Result<Self> {
         let mapping = Mapping::by_name(&model.meta().mapping)?;
         let samples = Samples::from_dataset(dataset, mapping)?;
+        let predicted = model.predict_features(samples.features.view())?;
+        let intervals = model.predict_intervals(samples.features.view(), level)?;
+        let standard_errors = output_standard_errors(dataset, &samples)?;
+        let scaling = &model.meta().scaling;
         let all_profiles = dataset.text(PROFILE_COLUMN)?;
         let profiles: Vec<String> = samples
             .data_rows
@@ -86,10 +121,35 @@ impl Validation {
             if rows.is_empty() {
                 return Ok(None);
             }
+            let truth = samples.outputs.select(Axis(0), &rows);
+            let target_noise = standard_errors
+                .as_ref()
+                .map(|se| target_noise(scaling, truth.view(), se.select(Axis(0), &rows).view()))
+                .transpose()?;
+            let (coverage, mean_width) = match &intervals {
+                Some(i) => {
+                    let part = Intervals {
+                        level,
+                        lower: i.lower.select(Axis(0), &rows),
+                        upper: i.upper.select(Axis(0), &rows),
+                    };
+                    let covered = part.covers(truth.view());
+                    let coverage = covered
+                        .columns()
+                        .into_iter()
+                        .map(|c| fraction(c.iter().copied()))
+                        .collect();
+                    (Some(coverage), Some(mean_widths(&part)))
+                }
+                None => (None, None),
+            };
             Ok(Some(ProfileError {
                 per_output: model.evaluate(&samples.subset(&rows)?)?,
                 profile: name.to_owned(),
                 rows: rows.len(),
+                target_noise,
+                coverage,
+                mean_width,
             }))
         };
         let mut errors = Vec::new();
@@ -101,14 +161,15 @@ impl Validation {
         let mut domain_errors = Vec::new();
         domain_errors.extend(group_error(IN_DOMAIN, &|i| in_domain[i])?);
         domain_errors.extend(group_error(OUT_OF_DOMAIN, &|i| !in_domain[i])?);
-        let predicted = model.predict_features(samples.features.view())?;
-        let target_noise = output_standard_errors(dataset, &samples)?
-            .map(|se| target_noise(&model.meta().scaling, samples.outputs.view(), se.view()))
-            .transpose()?;
+        let target_noise = errors
+            .iter()
+            .find(|e| e.profile == ALL_PROFILES)
+            .and_then(|e| e.target_noise.clone());
         Ok(Validation {
             samples,
             profiles,
             predicted,
+            intervals,
             errors,
             in_domain,
             domain_errors,

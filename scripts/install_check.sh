@@ -7,16 +7,19 @@
 # finds libxgboost.so (ldd). Not part of the test suite (two release builds); docs/python.md
 # holds a run's output.
 # Usage: scripts/install_check.sh [--cold]. By default the scratch target starts as a copy of
-# ./target (an incremental build, minutes); --cold starts from nothing (a first build, about
-# 20 min on 2 cores).
+# the release build in $SEED_TARGET (default ./target; an incremental build, minutes);
+# --cold starts from nothing (a first build, about 20 min on 2 cores). With XDG_DATA_HOME
+# pointing at an empty folder, both builds install the pinned XGBoost wheel afresh (pip's
+# isolated build included).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$PWD
 tmp=$(mktemp -d /tmp/suspflow-install.XXXXXX)
 export CARGO_TARGET_DIR=$tmp/target
-if [ "${1:-}" != --cold ] && [ -d target/release ]; then
-    echo "== seeding $CARGO_TARGET_DIR with a copy of target/"
-    mkdir -p "$CARGO_TARGET_DIR" && cp -r target/release "$CARGO_TARGET_DIR/release"
+seed=${SEED_TARGET:-target}
+if [ "${1:-}" != --cold ] && [ -d "$seed/release" ]; then
+    echo "== seeding $CARGO_TARGET_DIR with a copy of $seed/release"
+    mkdir -p "$CARGO_TARGET_DIR" && cp -r "$seed/release" "$CARGO_TARGET_DIR/release"
 fi
 echo "== cargo install --path . --root $tmp/root"
 nice -n 5 cargo install --quiet --path . --root "$tmp/root"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The README's install commands, then the installs used without their build: installs the
-# command with `cargo install --path .` and the Python package from a wheel built by
-# `pip wheel ./python`, both from one scratch target directory, deletes that directory (what
+# The README's install commands, then the installs used without their build: builds a wheel
+# with `pip wheel ./python` (first, as in a fresh clone: pip's isolated build) and installs
+# it into a fresh venv, installs the command with `cargo install --path .`, both from one
+# scratch target directory, deletes that directory (what
 # `cargo clean` does to a checkout's target/) and runs both from another folder: `suspflow
 # --version`, a `predict` with the shipped models, the same from Python, and where each
 # finds libxgboost.so (ldd). Not part of the test suite (two release builds); docs/python.md
@@ -21,13 +22,13 @@ if [ "${1:-}" != --cold ] && [ -d "$seed/release" ]; then
     echo "== seeding $CARGO_TARGET_DIR with a copy of $seed/release"
     mkdir -p "$CARGO_TARGET_DIR" && cp -r "$seed/release" "$CARGO_TARGET_DIR/release"
 fi
-echo "== cargo install --path . --root $tmp/root"
-nice -n 5 cargo install --quiet --path . --root "$tmp/root"
 echo "== pip wheel ./python -w $tmp/dist (then pip install it into a fresh venv)"
 python3 -m venv "$tmp/venv"
 nice -n 5 "$tmp/venv/bin/python" -m pip wheel --quiet --disable-pip-version-check --no-deps ./python -w "$tmp/dist"
 "$tmp/venv/bin/python" -m pip install --quiet --disable-pip-version-check "$tmp"/dist/*.whl
 ls -l "$tmp"/dist/*.whl
+echo "== cargo install --path . --root $tmp/root"
+nice -n 5 cargo install --quiet --path . --root "$tmp/root"
 echo "== rm -rf $CARGO_TARGET_DIR (as cargo clean)"
 rm -rf "$CARGO_TARGET_DIR"
 cd "$tmp"

@@ -27,8 +27,8 @@ python3 -m venv "$tmp/venv"
 nice -n 5 "$tmp/venv/bin/python" -m pip wheel --quiet --disable-pip-version-check --no-deps ./python -w "$tmp/dist"
 "$tmp/venv/bin/python" -m pip install --quiet --disable-pip-version-check "$tmp"/dist/*.whl
 ls -l "$tmp"/dist/*.whl
-echo "== cargo install --path . --root $tmp/root"
-nice -n 5 cargo install --quiet --path . --root "$tmp/root"
+echo "== cargo install --locked --path . --root $tmp/root"
+nice -n 5 cargo install --quiet --locked --path . --root "$tmp/root"
 echo "== rm -rf $CARGO_TARGET_DIR (as cargo clean)"
 rm -rf "$CARGO_TARGET_DIR"
 cd "$tmp"

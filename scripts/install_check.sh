@@ -11,7 +11,7 @@
 # the release build in $SEED_TARGET (default ./target; an incremental build, minutes);
 # --cold starts from nothing (a first build, about 20 min on 2 cores). With XDG_DATA_HOME
 # pointing at an empty folder, both builds install the pinned XGBoost wheel afresh (pip's
-# isolated build included).
+# isolated build included). KEEP_WHEEL=DIR keeps a copy of the wheel in DIR.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$PWD
@@ -46,5 +46,6 @@ repo = sys.argv[1]
 p = suspflow.predict(f"{repo}/models/dv", f"{repo}/datasets/validate_ensemble.ensemble.csv")
 print(suspflow.__version__, p[["phi_loc_pred", "mu_pred"]].iloc[0].to_dict())
 PY
+if [ -n "${KEEP_WHEEL:-}" ]; then mkdir -p "$KEEP_WHEEL" && cp "$tmp"/dist/*.whl "$KEEP_WHEEL"/; fi
 rm -rf "$tmp"
 echo "== ok"

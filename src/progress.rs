@@ -1,6 +1,6 @@
 //! Progress of a run, or of a batch of runs, on standard error: bars on a terminal, and off a terminal (a batch
-//! job's log, nohup) a line every [`LINE_PERCENT`] percent of a phase or every
-//! [`LINE_EVERY`], whichever comes first.
+//! job's log, nohup) a line every few percent of a phase or minutes
+//! ([`ProgressLines::for_logs`]).
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use sim::input::grid::GridRun;
 use sim::output::run_summary::RunOutcome;
@@ -9,12 +9,6 @@ use sim::run::progress::ProgressLines;
 use sim::run::run_folder::Ended;
 use sim::run::Progress;
 use std::sync::Mutex;
-use std::time::Duration;
-
-/// Percent of a phase between two progress lines off a terminal.
-pub const LINE_PERCENT: f64 = 10.0;
-/// Longest time between two progress lines off a terminal.
-pub const LINE_EVERY: Duration = Duration::from_secs(300);
 
 /// A run's bar (hidden off a terminal).
 pub fn bar() -> anyhow::Result<ProgressBar> {
@@ -27,7 +21,7 @@ pub fn bar() -> anyhow::Result<ProgressBar> {
 
 /// The line schedule off a terminal.
 pub fn lines() -> ProgressLines {
-    ProgressLines::new(LINE_PERCENT, LINE_EVERY)
+    ProgressLines::for_logs()
 }
 
 /// Shows `p` on `bar`, or as a line (`label` first) when the bar is hidden and one is due.

@@ -609,11 +609,18 @@ fn validate_prints_every_section_and_draws_one_figure_per_profile() {
     let mut files: Vec<PathBuf> = std::fs::read_dir(&figures)
         .unwrap()
         .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "svg"))
         .collect();
     files.sort();
     assert_eq!(files.len(), 2, "{files:?}");
     for (file, profile) in files.iter().zip([SIN_COS, SIN3]) {
-        assert_eq!(file.extension().unwrap(), "svg");
+        // The figure's numbers beside it: one row per drawn point, every series named.
+        let data = std::fs::read_to_string(file.with_extension("csv")).unwrap();
+        assert!(data.starts_with("panel,series,x_quantity,x,x_se,y_quantity,y,y_se\n"));
+        assert!(
+            data.contains(",simulated,phi_loc,") && data.contains(",mapping dv,"),
+            "{data}"
+        );
         let svg = std::fs::read_to_string(file).unwrap();
         assert!(svg.starts_with("<svg"), "{}", file.display());
         for label in [
@@ -640,7 +647,8 @@ fn validate_prints_every_section_and_draws_one_figure_per_profile() {
         "--mapping",
         "mu",
     ]);
-    assert_eq!(std::fs::read_dir(&elsewhere).unwrap().count(), 2);
+    // Two figures, each with its CSV.
+    assert_eq!(std::fs::read_dir(&elsewhere).unwrap().count(), 4);
     std::fs::remove_dir_all(&dir).ok();
 }
 

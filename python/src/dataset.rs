@@ -20,12 +20,23 @@ pub fn dataset(table: Table) -> Result<Dataset, Error> {
     })
 }
 
-/// One column of a dataset: numbers (NaN for an empty cell) when every cell is one, text
-/// otherwise.
+/// One column of a dataset: integers for a column of whole numbers
+/// ([`schema::columns::INTEGER_COLUMNS`], e.g. `seed`), numbers (NaN for an empty cell)
+/// when every cell is one, text otherwise.
 #[derive(IntoPyObject)]
 pub enum ColumnValues {
+    Integers(Vec<i64>),
     Numbers(Vec<f64>),
     Text(Vec<String>),
+}
+
+/// `numbers` as integers when every one is a whole number within i64's range.
+fn integers(numbers: &[f64]) -> Option<Vec<i64>> {
+    let whole = |x: f64| x.fract() == 0.0 && x.abs() < 9.0e15;
+    numbers
+        .iter()
+        .all(|&x| whole(x))
+        .then(|| numbers.iter().map(|&x| x as i64).collect())
 }
 
 /// The columns of the dataset at `path` (per-run table or ensemble table, `docs/physics.md`
@@ -39,8 +50,12 @@ pub fn read_dataset(
     let data = Dataset::read_csv(&path)?;
     let mut columns = Vec::new();
     for name in data.column_names() {
+        let integer = schema::columns::INTEGER_COLUMNS.contains(&name.as_str());
         let values = match data.column(name) {
-            Ok(numbers) => ColumnValues::Numbers(numbers.to_vec()),
+            Ok(numbers) => match integers(numbers).filter(|_| integer) {
+                Some(whole) => ColumnValues::Integers(whole),
+                None => ColumnValues::Numbers(numbers.to_vec()),
+            },
             Err(_) => ColumnValues::Text(data.text(name)?.to_vec()),
         };
         columns.push((name.clone(), values));

@@ -18,7 +18,7 @@ pub const CODE_VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("SUS
 
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("SuspflowError", m.py().get_type::<error::SuspflowError>())?;
+    error::Error::register(m)?;
     m.add("CODE_VERSION", CODE_VERSION)?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<models::Predictions>()?;

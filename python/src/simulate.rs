@@ -4,7 +4,7 @@
 //! a worker thread while the calling thread, without the GIL, waits for its progress and
 //! polls Python's signals: Ctrl-C (KeyboardInterrupt) stops the run within 256 steps, its
 //! checkpoint saved, and `resume=True` continues it.
-use crate::error::Error;
+use crate::error::{Error, Kind};
 use crate::scene::Scene;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
@@ -12,6 +12,7 @@ use pyo3::types::PyDict;
 use sim::output::frame_writer::FrameWriter;
 use sim::output::result_files::{write_results, WRITTEN};
 use sim::output::snapshot_format::SnapshotFormat;
+use sim::run::progress::ProgressLines;
 use sim::run::run_folder::{Ended, RunFolder};
 use sim::run::{Phase, RunOptions, SteadyRun};
 use sim::SimError;
@@ -35,6 +36,10 @@ struct Report {
     snapshots: usize,
     snapshots_target: usize,
     step: u64,
+    /// The status with the time in the phase and the time left (a terminal's line).
+    status: String,
+    /// The same when a log's line is due (every few percent or minutes), else None.
+    line: Option<String>,
 }
 
 impl Report {
@@ -51,6 +56,8 @@ impl Report {
         d.set_item("snapshots", self.snapshots)?;
         d.set_item("snapshots_target", self.snapshots_target)?;
         d.set_item("step", self.step)?;
+        d.set_item("status", &self.status)?;
+        d.set_item("line", &self.line)?;
         Ok(d)
     }
 }
@@ -58,7 +65,7 @@ impl Report {
 /// Runs `scene` into the run folder `out` on `threads` threads (0 = all cores), continuing
 /// `out/checkpoint.json` (an interrupted run, or a finished one that the scene lengthens)
 /// unless `fresh` starts over; with `snapshot = N` a frame every N samples in
-/// `snapshot_format` (`xyz` or `lammps`). `progress(dict)` is called with each report.
+/// `snapshot_format` (`xyz`, `lammps` or `gsd`). `progress(dict)` is called with each report.
 /// Returns the run summary (summary.json) as JSON text.
 #[pyfunction]
 #[pyo3(signature = (scene, out, threads = 0, fresh = true, snapshot = None, snapshot_format = "xyz", progress = None))]
@@ -74,9 +81,15 @@ pub fn simulate(
     let py = scene.py();
     let scene = scene.borrow();
     let scene = &scene.inner;
-    let format: SnapshotFormat = snapshot_format.parse().map_err(Error::from)?;
+    // A bad argument, not a file's failure: the base class.
+    let format: SnapshotFormat = snapshot_format
+        .parse()
+        .map_err(|e: SimError| Error::from(e.to_string()))?;
     if snapshot == Some(0) {
-        return Err(Error("snapshot must be at least 1 (a frame every N samples)".into()).into());
+        return Err(Error::from(
+            "snapshot must be at least 1 (a frame every N samples)".to_owned(),
+        )
+        .into());
     }
     let folder = RunFolder::new(&out);
     let _lock = folder.lock("`suspflow.simulate`").map_err(Error::from)?;
@@ -95,7 +108,7 @@ pub fn simulate(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| Error::context("starting the thread pool", e))?;
+        .map_err(|e| Error::context("starting the thread pool", e.to_string()))?;
     INTERRUPTED.store(false, Ordering::SeqCst);
     let opts = RunOptions {
         interrupt: Some(&INTERRUPTED),
@@ -109,6 +122,7 @@ pub fn simulate(
     let outcome = std::thread::scope(|s| {
         let worker = s.spawn(|| {
             let send = send;
+            let (mut status, mut log) = (ProgressLines::every_report(), ProgressLines::for_logs());
             pool.install(|| {
                 folder.run(
                     scene,
@@ -122,6 +136,8 @@ pub fn simulate(
                             snapshots: p.snapshots,
                             snapshots_target: p.snapshots_target,
                             step: p.step,
+                            status: status.line(p).unwrap_or_default(),
+                            line: log.line(p),
                         });
                         if let Some(frames) = frames.as_mut() {
                             frames.after_sample(p.samples, sim);
@@ -157,7 +173,7 @@ pub fn simulate(
         }
         py.allow_threads(|| worker.join())
     })
-    .map_err(|_| Error("the simulation thread panicked".into()))?;
+    .map_err(|_| Error::from("the simulation thread panicked".to_owned()))?;
     if let Some(frames) = frames {
         frames.finish().map_err(Error::from)?;
     }
@@ -177,12 +193,15 @@ pub fn simulate(
         Ended::Finished(outcome) => {
             Ok(serde_json::to_string(&outcome.summary).expect("a run summary serialises"))
         }
-        Ended::Interrupted { step } => Err(Error(format!(
-            "interrupted at step {step}; state saved in {}",
-            checkpoint.display()
-        ))
+        Ended::Interrupted { step } => Err(Error::new(
+            Kind::Interrupted,
+            format!(
+                "interrupted at step {step}; state saved in {}; continue with resume=True",
+                checkpoint.display()
+            ),
+        )
         .into()),
-        Ended::InterruptedPacking => Err(Error(SimError::InterruptedPacking.to_string()).into()),
-        Ended::Failed(reason) => Err(Error(reason).into()),
+        Ended::InterruptedPacking => Err(Error::from(SimError::InterruptedPacking).into()),
+        Ended::Failed(reason) => Err(Error::from(reason).into()),
     }
 }

@@ -10,9 +10,14 @@ time, shear rates ``gdot`` in 1 / time, stresses ``sigma_xy`` and pressures ``P`
 (docs/physics.md sections 6 and 8 define the columns).
 
 Functions: :func:`read_scene`, :func:`check`, :func:`simulate`, :func:`predict`,
-:func:`validate`, :func:`read_dataset`, :func:`read_ensemble`, :func:`solve`. Every failure of
-the Rust side raises :class:`SuspflowError` with the crates' message (a bad scene names the
-field).
+:func:`validate`, :func:`read_dataset`, :func:`read_ensemble`, :func:`solve`. Every failure
+raises a :class:`SuspflowError` with the crates' message (a bad scene names the field), of
+the class of what failed: :class:`FileError` (a file missing, unreadable, locked or not
+written), :class:`SceneError` (an invalid scene), :class:`ModelError` (a model that cannot
+be loaded or does not fit the data), :class:`DataError` (a table with a missing column or a
+cell that is not a number) or :class:`RunInterrupted` (a run stopped by a signal; Ctrl-C
+raises KeyboardInterrupt). :mod:`suspflow.plain_models` uses the shipped models with plain
+xgboost.
 """
 from __future__ import annotations
 
@@ -27,14 +32,28 @@ import numpy as np
 import pandas as pd
 
 from . import _native
-from ._native import CODE_VERSION, Scene, SuspflowError
+from ._native import (
+    CODE_VERSION,
+    DataError,
+    FileError,
+    ModelError,
+    RunInterrupted,
+    Scene,
+    SceneError,
+    SuspflowError,
+)
 
 __version__ = CODE_VERSION
 """The package's version and the commit it was built from (as ``suspflow --version``)."""
 
 __all__ = [
     "CODE_VERSION",
+    "DataError",
+    "FileError",
+    "ModelError",
+    "RunInterrupted",
     "Scene",
+    "SceneError",
     "SuspflowError",
     "check",
     "predict",
@@ -76,11 +95,15 @@ def check(scene: SceneLike) -> Dict[str, Any]:
 
 
 def _progress_line(report: Dict[str, Any]) -> None:
-    if report["phase"] == "equilibrating":
-        text = f"equilibrating: strain {report['strain']:.2f} of budget {report['max_strain']:.1f}"
+    """On a terminal, the run's status rewritten in place; elsewhere (a batch job's log,
+    nohup, a notebook's captured output) a line every 10 % of a phase or 5 minutes, as the
+    command writes them: phase, strain or snapshots, step, time spent and left."""
+    if sys.stderr.isatty():
+        sys.stderr.write(f"\r{report['status']:<100}")
+    elif report["line"]:
+        sys.stderr.write(report["line"] + "\n")
     else:
-        text = f"averaging: snapshot {report['snapshots']} / {report['snapshots_target']}"
-    sys.stderr.write(f"\r{text:<60}")
+        return
     sys.stderr.flush()
 
 
@@ -108,7 +131,10 @@ def simulate(
     ``run.max_strain``); an ``out`` holding an earlier run is refused unless ``resume`` or
     ``force`` (start over). The folder is locked while the run writes it. ``progress``: True writes a status line to
     standard error, False nothing, a callable receives a dict (``phase``, ``strain``,
-    ``max_strain``, ``snapshots``, ``snapshots_target``, ``step``) after every sample.
+    ``max_strain``, ``snapshots``, ``snapshots_target``, ``step``, ``status``: the status
+    with the time spent and left, ``line``: the same when a log's line is due, else None)
+    after every sample. The default writes ``status`` in place on a terminal and ``line``
+    elsewhere.
 
     The run holds no GIL. Ctrl-C raises KeyboardInterrupt within 256 steps, after the state is
     saved in ``out/checkpoint.json`` (``resume=True`` continues it); so does an exception of
@@ -117,7 +143,7 @@ def simulate(
     scene = read_scene(scene)
     out = pathlib.Path(out)
     if out.exists() and not out.is_dir():
-        raise SuspflowError(f"{out} is a file; choose a directory for the run")
+        raise FileError(f"{out} is a file; choose a directory for the run")
     if resume and force:
         raise SuspflowError("resume and force exclude each other")
     if not resume and not force:
@@ -130,7 +156,7 @@ def simulate(
             else ("checkpoint.json", "the checkpoint of an unfinished run; resume=True continues it")
         )
         if (out / name).exists():
-            raise SuspflowError(
+            raise FileError(
                 f"{out / name} holds {what}; force=True starts over, or choose another out"
             )
     out.mkdir(parents=True, exist_ok=True)
@@ -140,7 +166,7 @@ def simulate(
             scene, os.fspath(out), threads, not resume, snapshot, snapshot_format, callback
         )
     finally:
-        if progress is True:
+        if progress is True and sys.stderr.isatty():
             sys.stderr.write("\n")
     return json.loads(summary)
 
@@ -238,17 +264,19 @@ def validate(
 def read_dataset(path: PathLike) -> pd.DataFrame:
     """A dataset (one row per bin per run) or an ensemble table (one row per bin per scene,
     averaged over replicas) as the commands read it: columns whose every cell is a number as
-    floats (an empty cell, an undefined value, as NaN), the others as strings.
+    floats (an empty cell, an undefined value, as NaN), ``seed`` and ``replicas`` as integers,
+    the others as strings.
     ``attrs["kind"]`` is ``"runs"``, ``"ensemble"`` (None for a table without scene ids) and
     ``attrs["description"]`` says how many scenes, runs or replicas it holds."""
     columns, kind = _native.read_dataset(os.fspath(path))
-    frame = pd.DataFrame(
-        {
-            name: np.asarray(values, dtype=float) if values and isinstance(values[0], float)
-            else pd.Series(values, dtype=object)
-            for name, values in columns
-        }
-    )
+    def column(values):
+        if values and isinstance(values[0], int):
+            return np.asarray(values, dtype=np.int64)
+        if values and isinstance(values[0], float):
+            return np.asarray(values, dtype=float)
+        return pd.Series(values, dtype=object)
+
+    frame = pd.DataFrame({name: column(values) for name, values in columns})
     frame.attrs["kind"], frame.attrs["description"] = kind if kind else (None, None)
     return frame
 
@@ -259,7 +287,7 @@ def read_ensemble(path: PathLike) -> pd.DataFrame:
     the replica count) as a DataFrame, like :func:`read_dataset`; other tables are refused."""
     frame = read_dataset(path)
     if frame.attrs["kind"] != "ensemble":
-        raise SuspflowError(
+        raise DataError(
             f"{path} is not an ensemble table (it has no `replicas` and `se_from` columns)"
         )
     return frame

@@ -8,6 +8,21 @@ CODE_VERSION: str
 class SuspflowError(Exception):
     """An error of the simulator, the surrogate models or the profile solver."""
 
+class FileError(SuspflowError):
+    """A file missing, unreadable, locked by another run, or not written."""
+
+class SceneError(SuspflowError):
+    """An invalid scene."""
+
+class ModelError(SuspflowError):
+    """A model that cannot be loaded or does not fit the data."""
+
+class DataError(SuspflowError):
+    """A table with a missing column or a cell that is not a number or not physical."""
+
+class RunInterrupted(SuspflowError):
+    """A run stopped by a signal (its checkpoint holds its state)."""
+
 class Scene:
     """A validated scene (lengths in units of the small-sphere radius a)."""
 

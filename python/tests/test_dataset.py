@@ -1,5 +1,6 @@
 """read_dataset and read_ensemble: every cell as the file holds it (numbers exactly, empty
-cells as NaN, text columns as strings) and the kind of table."""
+cells as NaN, seeds and replica counts as integers, text columns as strings) and the kind
+of table."""
 import csv
 import math
 
@@ -25,12 +26,17 @@ def test_cells_are_read_as_written(root, name, kind):
         if frame[column].dtype == float:
             for value, cell in zip(values, cells):
                 assert math.isnan(value) if cell == "" else value == float(cell)
+        elif frame[column].dtype == "int64":
+            assert column in ("seed", "replicas")
+            assert values == [int(c) for c in cells]
         else:
             assert values == cells
     assert frame["profile"].dtype == object and frame["y"].dtype == float
+    integer = "seed" if kind == "runs" else "replicas"
+    assert frame[integer].dtype == "int64"
 
 
 def test_read_ensemble_refuses_a_per_run_table(root):
     assert suspflow.read_ensemble(root / "datasets/validate_ensemble.ensemble.csv").attrs["kind"] == "ensemble"
-    with pytest.raises(suspflow.SuspflowError, match="not an ensemble table"):
+    with pytest.raises(suspflow.DataError, match="not an ensemble table"):
         suspflow.read_ensemble(root / "datasets/validate.csv")

@@ -63,5 +63,5 @@ def test_validate_matches_the_command(root, run_suspflow, tmp_path):
 
 
 def test_a_missing_model_is_an_error_naming_it(root):
-    with pytest.raises(suspflow.SuspflowError, match="nope"):
+    with pytest.raises(suspflow.ModelError, match="nope"):
         suspflow.predict(root / "models" / "nope", root / DATA)

@@ -1,5 +1,5 @@
 """read_scene and check against the command: a scene from a file and from a mapping with the
-same keys are the same scene, bad input raises SuspflowError naming the field, and check()
+same keys are the same scene, bad input raises SceneError naming the field (a missing file FileError), and check()
 states the numbers `suspflow simulate --check` prints."""
 import re
 import tomllib
@@ -22,11 +22,11 @@ def test_a_mapping_and_its_file_are_the_same_scene(root):
 def test_bad_fields_are_refused_by_name():
     bad = {"name": "bad", "box": {"l_x": 8.0, "l_y": 12.0, "l_z": 8.0}, "particles": {"phi": 0.9},
            "fluid": {"profile": "0.1*sin(2*pi*y/L)"}}
-    with pytest.raises(suspflow.SuspflowError, match="particles.phi"):
+    with pytest.raises(suspflow.SceneError, match="particles.phi"):
         suspflow.read_scene(bad)
-    with pytest.raises(suspflow.SuspflowError, match="unknown field"):
+    with pytest.raises(suspflow.SceneError, match="unknown field"):
         suspflow.read_scene({"name": "x", "boxx": {}})
-    with pytest.raises(suspflow.SuspflowError, match="no_such.toml"):
+    with pytest.raises(suspflow.FileError, match="no_such.toml"):
         suspflow.read_scene("no_such.toml")
 
 

@@ -34,10 +34,10 @@ def test_the_profile_is_the_commands(root, command_run, tmp_path):
 
 def test_an_earlier_run_is_kept_unless_force(root, tmp_path):
     suspflow.simulate(root / SCENE, tmp_path, threads=1, progress=False)
-    with pytest.raises(suspflow.SuspflowError, match="earlier run"):
+    with pytest.raises(suspflow.FileError, match="earlier run"):
         suspflow.simulate(root / SCENE, tmp_path, threads=1, progress=False)
     suspflow.simulate(root / SCENE, tmp_path, threads=1, progress=False, force=True)
-    with pytest.raises(suspflow.SuspflowError, match="is a file"):
+    with pytest.raises(suspflow.FileError, match="is a file"):
         suspflow.simulate(root / SCENE, tmp_path / "profile.csv", progress=False)
     with pytest.raises(suspflow.SuspflowError, match="snapshot format"):
         suspflow.simulate(root / SCENE, tmp_path / "x", snapshot=1, snapshot_format="pdb")
@@ -83,3 +83,18 @@ def test_an_exception_in_the_progress_callable_stops_the_run(root, tmp_path):
     with pytest.raises(RuntimeError, match="stop here"):
         suspflow.simulate(root / SCENE, tmp_path, threads=1, progress=fail)
     assert not (tmp_path / "profile.csv").exists()
+
+
+def test_progress_off_a_terminal_is_a_line_every_ten_percent(root, tmp_path, capfd):
+    """stderr captured (not a terminal): the default progress writes whole lines, one at
+    each phase's start and every 10 % of it, each with the step and the time left, and no
+    carriage return."""
+    suspflow.simulate(root / SCENE, tmp_path, threads=1)
+    err = capfd.readouterr().err
+    assert "\r" not in err
+    lines = [l for l in err.splitlines() if "%)" in l]
+    equilibrating = [l for l in lines if l.startswith("equilibrating")]
+    averaging = [l for l in lines if l.startswith("averaging")]
+    assert 2 <= len(averaging) <= 12 and equilibrating, err
+    assert all(", step " in l and " in this phase" in l for l in lines)
+    assert any(" left" in l for l in averaging)

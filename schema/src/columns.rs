@@ -60,6 +60,8 @@ pub const EXTREMUM_DISTANCE: &str = "d_ext";
 pub const REPLICAS: &str = "replicas";
 /// Ensemble table: the replicas' seeds, separated by spaces.
 pub const SEEDS: &str = "seeds";
+/// The columns that hold whole numbers (a reader gives them as integers, not floats).
+pub const INTEGER_COLUMNS: [&str; 2] = [SEED, REPLICAS];
 /// Ensemble table: where the row's standard errors come from, [`SE_FROM_REPLICAS`] or
 /// [`SE_FROM_BATCH_MEANS`].
 pub const SE_FROM: &str = "se_from";

@@ -1,5 +1,6 @@
 //! Snapshot frames read back: the extended-XYZ and LAMMPS-dump rows hold every particle's
-//! state exactly (shortest round-trip decimals), the species as element symbols and types,
+//! state exactly (shortest round-trip decimals; the XYZ's momenta are mass x velocity), the
+//! species as element symbols and types, the mass (XYZ), LAMMPS' ids from 1 and its column names,
 //! and the cell of the box, sheared by the Lees-Edwards offset for a sheared scene.
 use sim::input::initial_state::initial_particles;
 use sim::input::scene::Scene;
@@ -21,10 +22,10 @@ fn numbers(fields: &[&str]) -> Vec<f64> {
     fields.iter().map(|f| f.parse().unwrap()).collect()
 }
 
-/// Every particle's identity, species, radius, position, velocity and spin as written.
+/// Every particle's identity, species, mass, radius, position, velocity and spin as written.
 fn particle_state(sim: &Simulation, i: usize) -> Vec<f64> {
     let p = &sim.particles;
-    let head = [p.id[i] as f64, p.species[i] as f64, p.radius[i]];
+    let head = [p.id[i] as f64, p.species[i] as f64, p.mass[i], p.radius[i]];
     let vectors = [p.pos[i], p.vel[i], p.omega[i]];
     head.into_iter()
         .chain(vectors.iter().flat_map(|v| v.iter().copied()))
@@ -46,16 +47,23 @@ fn check_xyz(sim: &Simulation) -> f64 {
     let l = sim.pbox.len;
     assert_eq!([cell[0], cell[4], cell[8]], [l.x, l.y, l.z], "{}", lines[1]);
     assert!(lines[1].contains(
-        "Properties=species:S:1:pos:R:3:id:I:1:species_index:I:1:radius:R:1:velo:R:3:omega:R:3"
+        "Properties=species:S:1:pos:R:3:id:I:1:species_index:I:1:radius:R:1:masses:R:1:momenta:R:3:velo:R:3:omega:R:3"
     ));
+    assert!(lines[1].contains(&format!("Time={} Step={}", sim.time, sim.step)));
     let mut symbols = std::collections::BTreeSet::new();
     for (i, row) in lines[2..].iter().enumerate() {
         let f: Vec<&str> = row.split(' ').collect();
-        assert_eq!(f.len(), 13);
+        assert_eq!(f.len(), 17);
         let v = numbers(&f[1..]);
-        // Columns: symbol, pos, id, species_index, radius, velo, omega.
-        let reordered = [&[v[3], v[4], v[5]][..], &v[0..3], &v[6..12]].concat();
-        assert_eq!(reordered, particle_state(sim, i), "row {i}");
+        // Columns: symbol, pos, id, species_index, radius, masses, momenta, velo, omega.
+        let (m, momenta) = (v[6], &v[7..10]);
+        let reordered = [&[v[3], v[4], m, v[5]][..], &v[0..3], &v[10..16]].concat();
+        let expected = particle_state(sim, i);
+        assert_eq!(reordered, expected, "row {i}");
+        for (q, v) in momenta.iter().zip(&v[10..13]) {
+            // momenta / masses gives the velocity back to the last bit or two.
+            assert!((q / m - v).abs() <= 4.0 * f64::EPSILON * v.abs(), "row {i}");
+        }
         let expected = ["H", "He"][sim.particles.species[i] as usize];
         assert_eq!(f[0], expected);
         symbols.insert(f[0]);
@@ -75,7 +83,7 @@ fn check_lammps(sim: &Simulation) -> Option<f64> {
     assert_eq!(lines[3], n.to_string());
     assert_eq!(
         lines[8],
-        "ITEM: ATOMS id type radius x y z vx vy vz wx wy wz"
+        "ITEM: ATOMS id type radius x y z vx vy vz omegax omegay omegaz"
     );
     let l = sim.pbox.len;
     let bounds: Vec<Vec<f64>> = lines[5..8]
@@ -85,7 +93,10 @@ fn check_lammps(sim: &Simulation) -> Option<f64> {
     assert_eq!([bounds[1][1], bounds[2][1]], [l.y, l.z]);
     for (i, row) in lines[9..].iter().enumerate() {
         let mut v = numbers(&row.split(' ').collect::<Vec<_>>());
-        v[1] -= 1.0; // LAMMPS types start at 1.
+        // LAMMPS ids and types start at 1; the dump has no mass column.
+        v[0] -= 1.0;
+        v[1] -= 1.0;
+        v.insert(2, sim.particles.mass[i]);
         assert_eq!(v, particle_state(sim, i), "row {i}");
     }
     match lines[4] {

@@ -38,18 +38,19 @@ pub struct Args {
     /// step and what limits it) without running.
     #[arg(long)]
     check: bool,
-    /// Write a particle frame every N snapshots to DIR/frames.xyz or DIR/frames.lammpstrj
-    /// (appended to on --resume).
+    /// Write a particle frame every N snapshots to DIR/frames.xyz, DIR/frames.lammpstrj or
+    /// DIR/frames.gsd (appended to on --resume).
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u64).range(1..))]
     snapshot: Option<u64>,
-    /// Format of the --snapshot frames: xyz (extended XYZ: ASE, OVITO) or lammps (LAMMPS
-    /// text dump: OVITO, ASE, MDAnalysis).
+    /// Format of the --snapshot frames: xyz (extended XYZ: ASE, OVITO), lammps (LAMMPS text
+    /// dump: LAMMPS read_dump, OVITO, ASE, MDAnalysis) or gsd (binary, float32, about a fifth
+    /// of the text's size: OVITO, MDAnalysis, gsd).
     #[arg(
         long,
         value_name = "FORMAT",
         default_value = "xyz",
         requires = "snapshot",
-        value_parser = PossibleValuesParser::new(["xyz", "lammps"])
+        value_parser = PossibleValuesParser::new(["xyz", "lammps", "gsd"])
             .map(|s| s.parse::<SnapshotFormat>().expect("a listed format parses"))
     )]
     snapshot_format: SnapshotFormat,

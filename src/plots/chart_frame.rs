@@ -1,5 +1,6 @@
-//! The frame shared by the line charts: an SVG canvas, the caption, axes with short tick
-//! labels, and the legend box.
+//! The frame shared by the line charts: an SVG canvas, the caption, axes with their units
+//! and short tick labels (on a logarithmic axis only as many as fit), and the legend box.
+use crate::plots::axis_label::with_units;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -16,7 +17,8 @@ pub fn canvas(path: &Path) -> anyhow::Result<DrawingArea<SVGBackend<'_>, Shift>>
 }
 
 /// A captioned chart on `root` over the axes `x` and `y` (ranges, possibly log-scaled),
-/// with their labels and [`tick`] labels drawn.
+/// with their labels ([`with_units`]) and [`tick`] labels drawn ([`log_ticks`] on a
+/// logarithmic axis).
 pub fn chart<'a, 'b, X, Y>(
     root: &'a DrawingArea<SVGBackend<'b>, Shift>,
     title: &str,
@@ -36,14 +38,62 @@ where
         .x_label_area_size(44)
         .y_label_area_size(64)
         .build_cartesian_2d(x, y)?;
+    let x_ticks = formatter(chart.as_coord_spec().x_spec());
+    let y_ticks = formatter(chart.as_coord_spec().y_spec());
     chart
         .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
+        .x_desc(with_units(x_label))
+        .y_desc(with_units(y_label))
+        .x_label_formatter(&x_ticks)
+        .y_label_formatter(&y_ticks)
         .draw()?;
     Ok(chart)
+}
+
+/// The tick labels of `axis`: [`log_ticks`] when it is logarithmic (its geometric mean
+/// lies in its middle), else [`tick`].
+pub fn formatter<R: Ranged<ValueType = f64>>(axis: &R) -> Box<dyn Fn(&f64) -> String> {
+    let range = axis.range();
+    let (lo, hi) = (range.start, range.end);
+    let middle = axis.map(&(lo * hi).sqrt(), (0, 1000));
+    if lo > 0.0 && hi > 2.0 * lo && (middle - 500).abs() <= 2 {
+        let labelled = log_ticks(lo, hi);
+        Box::new(move |v| {
+            if labelled(*v) {
+                tick(*v)
+            } else {
+                String::new()
+            }
+        })
+    } else {
+        Box::new(|v| tick(*v))
+    }
+}
+
+/// Which ticks of a logarithmic axis over `[lo, hi]` get a label, so that labels never run
+/// into each other: the decades only over more than two decades, 1-2-5 over more than 0.7,
+/// every tick over less; the sparsest choice that still labels at least two values.
+pub fn log_ticks(lo: f64, hi: f64) -> impl Fn(f64) -> bool {
+    let mantissa = |v: f64| (v / 10f64.powf(v.log10().floor())).round() as u32;
+    let within = |keep: &[u32]| {
+        let mut count = 0;
+        let mut decade = 10f64.powf(lo.log10().floor());
+        while decade <= hi {
+            count += keep
+                .iter()
+                .filter(|&&k| (lo..=hi).contains(&(f64::from(k) * decade)))
+                .count();
+            decade *= 10.0;
+        }
+        count
+    };
+    let decades = (hi / lo).log10();
+    let keep: &'static [u32] = match decades {
+        d if d > 2.0 && within(&[1]) >= 2 => &[1],
+        d if d > 0.7 && within(&[1, 2, 5]) >= 2 => &[1, 2, 5],
+        _ => &[1, 2, 3, 4, 5, 6, 7, 8, 9],
+    };
+    move |v: f64| v > 0.0 && keep.contains(&mantissa(v))
 }
 
 /// Draws the legend of the labelled series at `position`.
@@ -100,5 +150,18 @@ mod tests {
         assert_eq!(super::tick(150.0), "150");
         assert_eq!(super::tick(0.0123456), "0.0123");
         assert_eq!(super::tick(2e-5), "2e-5");
+    }
+
+    #[test]
+    fn log_axes_label_only_what_fits() {
+        // Over three decades the decades alone; 0.07, 0.08, 0.09 would run together.
+        let wide = super::log_ticks(1e-3, 0.5);
+        assert!(wide(0.01) && wide(0.1) && !wide(0.08) && !wide(0.02));
+        // Over one decade 1-2-5.
+        let decade = super::log_ticks(0.04, 0.6);
+        assert!(decade(0.1) && decade(0.2) && decade(0.05) && !decade(0.07));
+        // Within a decade with a single 1-2-5 value inside, every tick (never a lone label).
+        let narrow = super::log_ticks(0.055, 0.095);
+        assert!(narrow(0.06) && narrow(0.07) && narrow(0.09));
     }
 }

@@ -2,6 +2,7 @@
 //! linear or logarithmic x axis, as SVG (the flow curves of homogeneous shear against the
 //! jamming law).
 use crate::plots::chart_frame::{canvas, chart, legend, log_bounds};
+use crate::plots::figure_data::{self, Row};
 use crate::plots::loglog::Line;
 use crate::plots::profile_panels::COLOURS;
 use anyhow::Context;
@@ -17,7 +18,8 @@ pub struct Points {
 
 /// Draws `data` and the model `curves` (dashed lines) to the SVG file `path`, y logarithmic, x logarithmic when
 /// `log_x` (a narrow range such as `phi` in [0.45, 0.6] reads better linear); non-positive
-/// or non-finite values are left out.
+/// or non-finite values are left out. The points and curves are written beside the figure
+/// ([`figure_data`]).
 pub fn draw(
     path: &Path,
     title: &str,
@@ -32,7 +34,26 @@ pub fn draw(
     } else {
         draw_inner(path, title, axes, x0..x1, y, data, curves)
     };
-    result.with_context(|| format!("drawing {}", path.display()))
+    result.with_context(|| format!("drawing {}", path.display()))?;
+    let measured = data.iter().flat_map(|d| {
+        d.points
+            .iter()
+            .filter(|&&(x, y, _)| usable(x, y))
+            .map(move |&(x, y, se)| Row {
+                panel: 1,
+                series: &d.name,
+                x_quantity: axes.0,
+                x,
+                x_se: None,
+                y_quantity: axes.1,
+                y,
+                y_se: Some(se),
+            })
+    });
+    figure_data::write(
+        path,
+        measured.chain(crate::plots::loglog::rows(curves, axes)),
+    )
 }
 
 fn usable(x: f64, y: f64) -> bool {

@@ -2,6 +2,7 @@
 //! an optional guide line of a given slope (e.g. -1/2 for a statistical error falling as
 //! 1/sqrt(time)).
 use crate::plots::chart_frame::{canvas, chart, legend, log_bounds};
+use crate::plots::figure_data::{self, Row};
 use crate::plots::profile_panels::COLOURS;
 use anyhow::Context;
 use plotters::prelude::*;
@@ -13,8 +14,9 @@ pub struct Line {
     pub points: Vec<(f64, f64)>,
 }
 
-/// Draws `lines` on log-log axes to the SVG file `path`; `guide` adds a dashed grey line of
-/// that slope through the first point of the first line.
+/// Draws `lines` on log-log axes to the SVG file `path`, and their points beside it
+/// ([`figure_data`]); `guide` adds a dashed grey line of that slope through the first point
+/// of the first line.
 pub fn draw(
     path: &Path,
     title: &str,
@@ -23,7 +25,27 @@ pub fn draw(
     guide: Option<f64>,
 ) -> anyhow::Result<()> {
     draw_inner(path, title, axes, lines, guide)
-        .with_context(|| format!("drawing {}", path.display()))
+        .with_context(|| format!("drawing {}", path.display()))?;
+    figure_data::write(path, rows(lines, axes))
+}
+
+/// The drawn points of `lines` as rows of the figure's data.
+pub(crate) fn rows<'a>(
+    lines: &'a [Line],
+    (x, y): (&'a str, &'a str),
+) -> impl Iterator<Item = Row<'a>> {
+    lines.iter().flat_map(move |line| {
+        usable(std::slice::from_ref(line)).map(move |(px, py)| Row {
+            panel: 1,
+            series: &line.name,
+            x_quantity: x,
+            x: px,
+            x_se: None,
+            y_quantity: y,
+            y: py,
+            y_se: None,
+        })
+    })
 }
 
 fn usable(lines: &[Line]) -> impl Iterator<Item = (f64, f64)> + '_ {

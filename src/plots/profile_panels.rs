@@ -13,6 +13,9 @@ use std::path::Path;
 use anyhow::Context;
 use plotters::prelude::*;
 
+use crate::plots::axis_label::with_units;
+use crate::plots::figure_data::{self, Row};
+
 /// One named curve or data set of a panel.
 pub struct Series {
     pub name: String,
@@ -45,9 +48,27 @@ pub(crate) const COLOURS: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
 ];
 
-/// Writes `panels` side by side under `title` to the SVG file `path`.
+/// Writes `panels` side by side under `title` to the SVG file `path`, and their points
+/// beside it ([`figure_data`]: x the quantity with its error, y the position).
 pub fn profile_panels(path: &Path, title: &str, panels: &[Panel]) -> anyhow::Result<()> {
-    draw(path, title, panels).with_context(|| format!("drawing {}", path.display()))
+    draw(path, title, panels).with_context(|| format!("drawing {}", path.display()))?;
+    figure_data::write(
+        path,
+        panels.iter().enumerate().flat_map(|(k, panel)| {
+            panel.series.iter().flat_map(move |series| {
+                finite_points(series).map(move |(y, value, error)| Row {
+                    panel: k + 1,
+                    series: &series.name,
+                    x_quantity: &panel.quantity,
+                    x: value,
+                    x_se: Some(error).filter(|e| e.is_finite()),
+                    y_quantity: "y",
+                    y,
+                    y_se: None,
+                })
+            })
+        }),
+    )
 }
 
 fn draw(path: &Path, title: &str, panels: &[Panel]) -> anyhow::Result<()> {
@@ -75,8 +96,8 @@ fn draw(path: &Path, title: &str, panels: &[Panel]) -> anyhow::Result<()> {
             .build_cartesian_2d(value_range(panel), y_range.clone())?;
         chart
             .configure_mesh()
-            .x_desc(panel.quantity.as_str())
-            .y_desc("y")
+            .x_desc(with_units(&panel.quantity))
+            .y_desc(with_units("y"))
             .x_labels(5)
             .draw()?;
         for series in &panel.series {

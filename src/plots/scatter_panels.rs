@@ -1,6 +1,9 @@
 //! Scatter plots as SVG: panels side by side, each a plane of two columns with a logarithmic
 //! horizontal axis, showing several named point sets in their own colours (the same set
 //! keeps its colour in every panel), with one legend per panel.
+use crate::plots::axis_label::with_units;
+use crate::plots::chart_frame::formatter;
+use crate::plots::figure_data::{self, Row};
 use crate::plots::profile_panels::COLOURS;
 use anyhow::Context;
 use plotters::coord::ranged1d::ValueFormatter;
@@ -26,9 +29,27 @@ pub struct ScatterPanel {
 
 const PANEL_SIZE: (u32, u32) = (620, 520);
 
-/// Draws `panels` side by side under `title` to the SVG file `path`.
+/// Draws `panels` side by side under `title` to the SVG file `path`, and their points
+/// beside it ([`figure_data`]).
 pub fn scatter_panels(path: &Path, title: &str, panels: &[ScatterPanel]) -> anyhow::Result<()> {
-    draw(path, title, panels).with_context(|| format!("drawing {}", path.display()))
+    draw(path, title, panels).with_context(|| format!("drawing {}", path.display()))?;
+    figure_data::write(
+        path,
+        panels.iter().enumerate().flat_map(|(k, panel)| {
+            panel.sets.iter().flat_map(move |set| {
+                drawn(panel, set).into_iter().map(move |(x, y)| Row {
+                    panel: k + 1,
+                    series: &set.name,
+                    x_quantity: &panel.x_label,
+                    x,
+                    x_se: None,
+                    y_quantity: &panel.y_label,
+                    y,
+                    y_se: None,
+                })
+            })
+        }),
+    )
 }
 
 fn drawn(panel: &ScatterPanel, set: &PointSet) -> Vec<(f64, f64)> {
@@ -95,11 +116,15 @@ where
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
+    let x_ticks = formatter(chart.as_coord_spec().x_spec());
+    let y_ticks = formatter(chart.as_coord_spec().y_spec());
     chart
         .configure_mesh()
         .light_line_style(TRANSPARENT)
-        .x_desc(&panel.x_label)
-        .y_desc(&panel.y_label)
+        .x_desc(with_units(&panel.x_label))
+        .y_desc(with_units(&panel.y_label))
+        .x_label_formatter(&x_ticks)
+        .y_label_formatter(&y_ticks)
         .draw()?;
     for (i, set) in panel.sets.iter().enumerate() {
         let colour = COLOURS[(i + 1) % COLOURS.len()];

@@ -1,7 +1,10 @@
 //! Extended-XYZ frames (the format of ASE's `extxyz` reader, also read by OVITO): per
 //! particle the element symbol standing for its species ([`element_symbol`]), position
-//! (units a), identity, species index, radius (units a), velocity (a / time) and spin
-//! (1 / time); the `Lattice` holds the cell's edges ([`SnapshotCell`], sheared for a
+//! (units a), identity (from 0), species index, radius (units a), mass (`masses`, units
+//! rho a^3), momentum (`momenta` = mass x velocity: the names ASE reads, so that its
+//! `get_velocities()` and `get_masses()` are the simulator's velocities in a / time and
+//! masses), velocity (`velo`, a / time, the name OVITO maps to its Velocity) and spin
+//! (`omega`, 1 / time); the `Lattice` holds the cell's edges ([`SnapshotCell`], sheared for a
 //! Lees-Edwards box), `Time` the simulated time and `Step` the step.
 use crate::error::SimError;
 use crate::integrate::simulation::Simulation;
@@ -12,7 +15,7 @@ use std::fmt::Write as _;
 
 /// The per-particle columns, in ASE's `name:type:count` notation.
 pub const PROPERTIES: &str =
-    "species:S:1:pos:R:3:id:I:1:species_index:I:1:radius:R:1:velo:R:3:omega:R:3";
+    "species:S:1:pos:R:3:id:I:1:species_index:I:1:radius:R:1:masses:R:1:momenta:R:3:velo:R:3:omega:R:3";
 
 /// One frame of `sim`'s particles as extended XYZ.
 pub fn frame(sim: &Simulation) -> Result<String, SimError> {
@@ -29,8 +32,9 @@ pub fn frame(sim: &Simulation) -> Result<String, SimError> {
     for i in 0..p.len() {
         s.push_str(element_symbol(p.species[i])?);
         push_vectors(&mut s, &[p.pos[i]]);
-        let _ = write!(s, " {} {} {}", p.id[i], p.species[i], p.radius[i]);
-        push_vectors(&mut s, &[p.vel[i], p.omega[i]]);
+        let m = p.mass[i];
+        let _ = write!(s, " {} {} {} {m}", p.id[i], p.species[i], p.radius[i]);
+        push_vectors(&mut s, &[p.vel[i] * m, p.vel[i], p.omega[i]]);
         s.push('\n');
     }
     Ok(s)

@@ -16,6 +16,8 @@ pub struct FrameWriter {
 
 impl FrameWriter {
     /// Opens `dir/<format's file name>`: truncated, or appended to when `append` (a resumed run).
+    /// Opened for reading and writing without `O_APPEND`: a GSD frame also updates the
+    /// file's index and header in place.
     pub fn open(
         dir: &Path,
         format: SnapshotFormat,
@@ -25,8 +27,8 @@ impl FrameWriter {
         let path = dir.join(format.file_name());
         let file = std::fs::OpenOptions::new()
             .create(true)
+            .read(true)
             .write(true)
-            .append(append)
             .truncate(!append)
             .open(&path)
             .map_err(|e| SimError::Output {

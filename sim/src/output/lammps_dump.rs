@@ -1,8 +1,15 @@
-//! LAMMPS text dump frames (`ITEM: ATOMS id type radius x y z vx vy vz wx wy wz`), read by
-//! OVITO, ASE (`lammps-dump-text`) and MDAnalysis. `id` is the particle's identity (from 0,
-//! as in the extended-XYZ frames), `type` its species + 1 (LAMMPS types start at 1; ASE
-//! reads a type as the atomic number, matching [`element_symbol`](crate::output::element_symbol)),
-//! lengths in units a, velocities in a / time, spins in 1 / time. A Lees-Edwards box is
+//! LAMMPS text dump frames (`ITEM: ATOMS id type radius x y z vx vy vz omegax omegay omegaz`,
+//! the names of LAMMPS' `dump custom`, so that OVITO names every column and LAMMPS'
+//! `read_dump ... add keep` takes the particles back), read by LAMMPS, OVITO, ASE
+//! (`lammps-dump-text`) and MDAnalysis. `id` is the particle's identity + 1 (LAMMPS ids start
+//! at 1; the extended-XYZ frames' `id` is the same identity from 0), `type` its species + 1
+//! (LAMMPS types start at 1; ASE reads a type as the atomic number, matching
+//! [`element_symbol`](crate::output::element_symbol)); no `mass` column, from which ASE
+//! would guess the elements (the masses are in the extended-XYZ and GSD frames); lengths in
+//! units a, velocities in a / time, spins in 1 / time. No `ITEM: TIME` header (LAMMPS'
+//! `dump_modify time yes`): MDAnalysis' reader expects `ITEM: TIMESTEP` on a frame's first
+//! line and fails on it; the time is the step times the run's `dt` (`summary.json`), which
+//! MDAnalysis applies given `dt=`, and the extended-XYZ frames state it. A Lees-Edwards box is
 //! written with the triclinic header `BOX BOUNDS xy xz yz pp pp pp` and the tilt of
 //! [`SnapshotCell`], an unsheared one with `BOX BOUNDS pp pp pp`.
 use crate::error::SimError;
@@ -12,7 +19,7 @@ use crate::output::snapshot_columns::push_vectors;
 use std::fmt::Write as _;
 
 /// The per-particle columns of the `ITEM: ATOMS` line.
-pub const COLUMNS: &str = "id type radius x y z vx vy vz wx wy wz";
+pub const COLUMNS: &str = "id type radius x y z vx vy vz omegax omegay omegaz";
 
 /// One frame of `sim`'s particles as a LAMMPS text dump.
 pub fn frame(sim: &Simulation) -> Result<String, SimError> {
@@ -37,7 +44,7 @@ pub fn frame(sim: &Simulation) -> Result<String, SimError> {
         let _ = write!(
             s,
             "{} {} {}",
-            p.id[i],
+            u64::from(p.id[i]) + 1,
             u32::from(p.species[i]) + 1,
             p.radius[i]
         );

@@ -5,6 +5,7 @@ pub mod element_symbol;
 pub mod extended_xyz;
 pub mod file_lock;
 pub mod frame_writer;
+pub mod gsd;
 pub mod lammps_dump;
 pub mod result_files;
 pub mod run_summary;

@@ -45,7 +45,7 @@ impl Progress {
     }
 
     /// What the run is doing, e.g. `equilibrating: strain 1.25 of budget 30.0` or
-    /// `averaging: snapshot 120 / 1000`.
+    /// `averaging: snapshot 120 / 1000 at strain 14.20`.
     pub fn describe(&self) -> String {
         match self.phase {
             Phase::Equilibrating => format!(
@@ -53,8 +53,8 @@ impl Progress {
                 self.strain, self.max_strain
             ),
             Phase::Averaging => format!(
-                "averaging: snapshot {} / {}",
-                self.snapshots, self.snapshots_target
+                "averaging: snapshot {} / {} at strain {:.2}",
+                self.snapshots, self.snapshots_target, self.strain
             ),
         }
     }
@@ -70,7 +70,24 @@ pub struct ProgressLines {
     phase_started: Instant,
 }
 
+/// Percent of a phase between two progress lines in a log (off a terminal).
+pub const LOG_LINE_PERCENT: f64 = 10.0;
+/// Longest time between two progress lines in a log.
+pub const LOG_LINE_EVERY: Duration = Duration::from_secs(300);
+
 impl ProgressLines {
+    /// The schedule of a log (a batch job's output, nohup): a line every
+    /// [`LOG_LINE_PERCENT`] percent of a phase or every [`LOG_LINE_EVERY`], whichever
+    /// comes first; the command and the Python package both follow it.
+    pub fn for_logs() -> Self {
+        ProgressLines::new(LOG_LINE_PERCENT, LOG_LINE_EVERY)
+    }
+
+    /// A line at every report: the status line of a terminal.
+    pub fn every_report() -> Self {
+        ProgressLines::new(0.0, Duration::ZERO)
+    }
+
     /// A line every `percent` percent of a phase, and at least every `interval`.
     pub fn new(percent: f64, interval: Duration) -> Self {
         ProgressLines {
@@ -158,7 +175,11 @@ mod tests {
             line.contains("strain 1.20 of budget 10.0 (12 %), step 7"),
             "{line}"
         );
-        assert!(lines.line(&at(Phase::Averaging, 3.0, 1)).is_some());
+        let averaging = lines.line(&at(Phase::Averaging, 3.0, 1)).unwrap();
+        assert!(
+            averaging.starts_with("averaging: snapshot 1 / 200 at strain 3.00 (0 %), step 7"),
+            "{averaging}"
+        );
         assert!(lines.line(&at(Phase::Averaging, 3.0, 20)).is_none());
         assert!(lines.line(&at(Phase::Averaging, 3.0, 21)).is_some());
         // Without progress, a line at least every interval.

@@ -1,6 +1,7 @@
 //! Refuse-unless-`--force`: nothing a user made is overwritten without being asked for,
 //! and an `--out` of the wrong kind (a file where a directory goes) is named plainly.
 use anyhow::bail;
+use sim::output::file_lock::FileLock;
 use std::path::Path;
 
 /// Fails if `path` exists and `force` is not set; `what` says what the file is and `hint`
@@ -37,6 +38,15 @@ pub fn out_dir(dir: &Path) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// Claims the directory `dir`, given as `--out`, for the command `holder` (e.g.
+/// "`suspflow cross-validate`"): checks it is a directory ([`out_dir`]), creates it and
+/// takes the lock every writer of an output folder takes, held until the guard is dropped.
+/// A second writer of the same folder is refused instead of replacing the first one's files.
+pub fn claim_dir(dir: &Path, holder: &str) -> anyhow::Result<FileLock> {
+    out_dir(dir)?;
+    Ok(FileLock::folder(dir, holder)?)
 }
 
 /// Fails if `file`, given as `--out`, is an existing directory.

@@ -78,6 +78,7 @@ pub fn simulate(
     if snapshot == Some(0) {
         return Err(Error("snapshot must be at least 1 (a frame every N samples)".into()).into());
     }
+    sim::run::threads::check(threads).map_err(Error)?;
     let folder = RunFolder::new(&out);
     let _lock = folder.lock("`suspflow.simulate`").map_err(Error::from)?;
     if fresh {

@@ -59,7 +59,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, false)?;
-    crate::output_guard::out_dir(&args.out)?;
+    let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow flow-curves`")?;
     let green_kubo = args
         .green_kubo
         .iter()
@@ -105,8 +105,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "an earlier flow-curve result",
         "choose another --out",
     )?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
     FlowCurveRow::write_all(&args.out.join("flow_curves.csv"), &points)?;
     let first_fit = fits
         .iter()

@@ -59,9 +59,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let predicted: Vec<Vec<f64>> = predicted.rows().into_iter().map(|r| r.to_vec()).collect();
     let out = with_predictions(&dataset, &model.meta().outputs, &predicted, &domain)?;
     match &args.out {
-        Some(path) => {
-            std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))?
-        }
+        Some(path) => schema::write_atomic(path, out.as_bytes())?,
         None => print!("{out}"),
     }
     eprintln!(

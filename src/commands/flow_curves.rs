@@ -65,7 +65,26 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .iter()
         .map(|d| GreenKuboResult::read(d))
         .collect::<Result<Vec<_>, _>>()?;
-    let FlowRuns { points, missing } = FlowRuns::read(&grid, &args.runs, &green_kubo)?;
+    refuse_repeated_green_kubo(&args.green_kubo, &green_kubo)?;
+    let runs = FlowRuns::read(&grid, &args.runs, &green_kubo)
+        .with_context(|| format!("--runs {}", args.runs.display()))?;
+    if let Some(&k) = runs.unmatched(&green_kubo).first() {
+        let mut phis: Vec<String> = runs
+            .points
+            .iter()
+            .map(|p| format!("{:.4}", p.point.phi_actual))
+            .collect();
+        phis.sort();
+        phis.dedup();
+        anyhow::bail!(
+            "--green-kubo {}: its volume fraction {:.4} is that of no finished run (theirs: {}); \
+             give the Green-Kubo runs of the grid's volume fractions",
+            args.green_kubo[k].display(),
+            green_kubo[k].phi_actual,
+            phis.join(", ")
+        );
+    }
+    let FlowRuns { points, missing } = runs;
     if !missing.is_empty() {
         eprintln!(
             "warning: {} of {} runs not finished in {} (run `suspflow generate {} --out ... --work {}`): {}",
@@ -128,5 +147,25 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     write_atomic(&readme, text.as_bytes())?;
     print!("{text}");
     eprintln!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// Refuses a Green-Kubo folder given twice, or two with the same result (a copied folder):
+/// each would count as a replica, and the spread between replicas, the error, would vanish.
+fn refuse_repeated_green_kubo(dirs: &[PathBuf], results: &[GreenKuboResult]) -> anyhow::Result<()> {
+    for (j, (dir, result)) in dirs.iter().zip(results).enumerate() {
+        let same = |k: usize| {
+            results[k] == *result
+                || std::fs::canonicalize(&dirs[k]).ok() == std::fs::canonicalize(dir).ok()
+        };
+        if let Some(k) = (0..j).find(|&k| same(k)) {
+            anyhow::bail!(
+                "--green-kubo {} and {} are the same run: each replica counts once (the \
+                 error is their spread)",
+                dirs[k].display(),
+                dir.display()
+            );
+        }
+    }
     Ok(())
 }

@@ -141,6 +141,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         g.extrapolated_eta_brownian_over_eta_se,
         g.relaxation_tau_b
     );
+    for w in &g.warnings {
+        eprintln!("warning (kept in {}): {w}", rheometry::green_kubo::JSON);
+    }
     eprintln!("wrote {}", args.out.display());
     Ok(())
 }

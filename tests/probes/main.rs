@@ -7,6 +7,8 @@ mod common;
 mod lifecycle;
 mod limits;
 mod locks;
+mod nothing;
+mod validity;
 mod writers;
 
 use std::path::{Path, PathBuf};

@@ -8,6 +8,7 @@ mod lifecycle;
 mod limits;
 mod locks;
 mod nothing;
+mod unclear;
 mod validity;
 mod writers;
 

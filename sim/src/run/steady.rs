@@ -113,7 +113,7 @@ impl Job for SteadyRun<'_> {
     type Outcome = RunOutcome;
 
     fn check(&self) -> Result<(), SimError> {
-        crate::input::scene_limits::check_driven(&self.scene.file)
+        crate::input::scene_limits::check_driven(&self.scene.file, self.scene.gdot_max())
     }
 
     fn fresh(&self) -> RunState {

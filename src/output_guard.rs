@@ -1,6 +1,7 @@
 //! Refuse-unless-`--force`: nothing a user made is overwritten without being asked for,
 //! and an `--out` of the wrong kind (a file where a directory goes) is named plainly.
 use anyhow::bail;
+use sim::output::file_lock::FileLock;
 use std::path::Path;
 
 /// Fails if `path` exists and `force` is not set; `what` says what the file is and `hint`
@@ -37,6 +38,42 @@ pub fn out_dir(dir: &Path) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// An output directory held by one writer ([`claim_dir`]) until dropped.
+pub struct Claim {
+    _lock: FileLock,
+    /// The directory, if the claim created it: removed again when the writer leaves it
+    /// holding nothing but the lock (a refused or failed command leaves no trace).
+    created: Option<std::path::PathBuf>,
+}
+
+impl Drop for Claim {
+    fn drop(&mut self) {
+        let Some(dir) = &self.created else { return };
+        let only_lock = std::fs::read_dir(dir).is_ok_and(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .all(|e| e.file_name() == sim::output::file_lock::FOLDER_LOCK)
+        });
+        if only_lock {
+            std::fs::remove_file(dir.join(sim::output::file_lock::FOLDER_LOCK)).ok();
+            std::fs::remove_dir(dir).ok();
+        }
+    }
+}
+
+/// Claims the directory `dir`, given as `--out`, for the command `holder` (e.g.
+/// "`suspflow cross-validate`"): checks it is a directory ([`out_dir`]), creates it and
+/// takes the lock every writer of an output folder takes, held until the claim is dropped.
+/// A second writer of the same folder is refused instead of replacing the first one's files.
+pub fn claim_dir(dir: &Path, holder: &str) -> anyhow::Result<Claim> {
+    out_dir(dir)?;
+    let created = (!dir.exists()).then(|| dir.to_path_buf());
+    Ok(Claim {
+        _lock: FileLock::folder(dir, holder)?,
+        created,
+    })
 }
 
 /// Fails if `file`, given as `--out`, is an existing directory.

@@ -752,6 +752,7 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
             max_lag_tau_b: 5.0,
             every_steps: 5,
             code_version: "test".into(),
+            warnings: Vec::new(),
         };
         std::fs::write(
             gk.join("green_kubo.json"),

@@ -91,6 +91,7 @@ pub fn simulate(
         )
         .into());
     }
+    sim::run::threads::check(threads).map_err(Error::from)?;
     let folder = RunFolder::new(&out);
     let _lock = folder.lock("`suspflow.simulate`").map_err(Error::from)?;
     if fresh {

@@ -107,7 +107,7 @@ pub fn solve(
         bands: summary
             .map(|b| serde_json::to_string(&b))
             .transpose()
-            .map_err(|e| Error::context("the bands' summary".to_owned(), e))?,
+            .map_err(|e| Error::context("the bands' summary", e.to_string()))?,
         bands_missing: missing,
     })
 }

@@ -79,8 +79,32 @@ def read_scene(scene: SceneLike, strict: bool = False) -> Scene:
     if isinstance(scene, Scene):
         return scene
     if isinstance(scene, Mapping):
+        field = _non_finite(scene)
+        if field is not None:
+            raise SuspflowError(
+                f"scene field `{field[0]}`: {field[1]} is not a finite number "
+                "(a scene holds no NaN or infinity)"
+            )
         return Scene.from_json(json.dumps(scene), strict)
     return Scene.from_path(os.fspath(scene), strict)
+
+
+def _non_finite(value: Any, path: str = "") -> Optional[tuple]:
+    """The dotted path and value of the first NaN or infinity in a scene mapping, if any
+    (JSON has neither, so the native reader would only say where in its text it stopped)."""
+    if isinstance(value, float) and not np.isfinite(value):
+        return path, value
+    if isinstance(value, Mapping):
+        items = ((f"{path}.{k}" if path else str(k), v) for k, v in value.items())
+    elif isinstance(value, (list, tuple)):
+        items = ((f"{path}[{k}]", v) for k, v in enumerate(value))
+    else:
+        return None
+    for where, v in items:
+        found = _non_finite(v, where)
+        if found is not None:
+            return found
+    return None
 
 
 def check(scene: SceneLike) -> Dict[str, Any]:

@@ -47,3 +47,14 @@ def test_the_version_is_the_commands(run_suspflow):
     """`suspflow.__version__` is the commit stamp the command line prints and results record."""
     printed = run_suspflow("--version").split()[-1]
     assert suspflow.__version__ == suspflow.CODE_VERSION == printed
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf")])
+def test_a_non_finite_number_in_a_mapping_is_refused_by_name(value):
+    # Issue 55, class 8: JSON has no NaN, and the native reader only said where in its text
+    # it stopped ("expected value at line 1 column 141").
+    scene = {"name": "x", "box": {"l_x": 8.0, "l_y": 12.0, "l_z": 8.0},
+             "particles": {"phi": 0.5, "radii": [1.0, value]},
+             "fluid": {"profile": "0.1*sin(2*pi*y/L)"}}
+    with pytest.raises(suspflow.SuspflowError, match=r"`particles\.radii\[1\]`"):
+        suspflow.read_scene(scene)

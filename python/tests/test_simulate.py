@@ -98,3 +98,21 @@ def test_progress_off_a_terminal_is_a_line_every_ten_percent(root, tmp_path, cap
     assert 2 <= len(averaging) <= 12 and equilibrating, err
     assert all(", step " in l and " in this phase" in l for l in lines)
     assert any(" left" in l for l in averaging)
+
+
+def test_threads_beyond_the_commands_cap_are_refused(root, tmp_path):
+    # Issue 55, class 7: the command's cap (8 per core) holds here too; 5000 threads were
+    # started before.
+    with pytest.raises(suspflow.SuspflowError, match="5000 threads on"):
+        suspflow.simulate(root / SCENE, tmp_path, threads=5000, progress=False)
+    assert not (tmp_path / "checkpoint.json").exists()
+
+
+def test_a_folder_another_writer_holds_is_refused(root, tmp_path):
+    # Issue 55, class 4: the one lock of every writer of a run folder (run.lock, an flock).
+    import fcntl
+
+    with open(tmp_path / "run.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with pytest.raises(suspflow.SuspflowError, match="in use by another"):
+            suspflow.simulate(root / SCENE, tmp_path, threads=1, progress=False)

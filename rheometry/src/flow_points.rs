@@ -13,7 +13,9 @@ use sim::run::run_folder::{Recorded, RunFolder, RunStatus};
 use sim::sampling::block_sums::Estimate;
 use sim::sampling::shear_rheology::ShearRheology;
 use std::path::Path;
-use surrogate::{bin_viscosity, green_kubo_at, part_viscosity, Dataset, State, StatePoint};
+use surrogate::{
+    bin_viscosity, green_kubo_at, green_kubo_matches, part_viscosity, Dataset, State, StatePoint,
+};
 
 /// The parts of `eta_r` the table and figures show: name in `flow_curves.csv`, legend, and
 /// the stress part (`schema::columns::STRESS_PARTS`) it is `-sigma_xy / (eta gdot)` of.
@@ -53,8 +55,15 @@ impl FlowRuns {
     /// The runs of `grid` in the batch folder `runs` (where `generate` ran it), each with
     /// the Green-Kubo viscosity of `green_kubo` at its volume fraction (the mean over the
     /// results there). Refuses a grid without homogeneous shear and folders made for other
-    /// scenes.
+    /// scenes, a folder that is not there, and one where no run of the grid has finished
+    /// (flow curves of nothing).
     pub fn read(grid: &Grid, runs: &Path, green_kubo: &[GreenKuboResult]) -> Result<FlowRuns> {
+        if !runs.is_dir() {
+            return Err(RheometryError::File {
+                path: runs.display().to_string(),
+                message: "is not a folder of runs (the folder in which the grid was run)".into(),
+            });
+        }
         let replicas: Vec<(f64, f64, f64)> = green_kubo
             .iter()
             .map(|g| {
@@ -141,7 +150,31 @@ impl FlowRuns {
                 inertia_diffusion: gs.scene.thermal.map(|t| t.inertia_diffusion),
             });
         }
+        if found.points.is_empty() {
+            return Err(RheometryError::File {
+                path: runs.display().to_string(),
+                message: format!(
+                    "holds no finished run of grid `{}` (none of its {} runs: the grid not run \
+                     there yet, or the folder of another grid)",
+                    grid.name,
+                    grid.runs.len()
+                ),
+            });
+        }
         Ok(found)
+    }
+
+    /// Those of `green_kubo` (by index) whose volume fraction is that of no finished run:
+    /// results that no point would use.
+    pub fn unmatched(&self, green_kubo: &[GreenKuboResult]) -> Vec<usize> {
+        (0..green_kubo.len())
+            .filter(|&k| {
+                !self
+                    .points
+                    .iter()
+                    .any(|p| green_kubo_matches(green_kubo[k].phi_actual, p.point.phi_actual))
+            })
+            .collect()
     }
 }
 

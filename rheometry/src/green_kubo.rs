@@ -45,6 +45,9 @@ pub struct GreenKuboResult {
     pub max_lag_tau_b: f64,
     pub every_steps: u64,
     pub code_version: String,
+    /// The scene's warnings (its time step, say): what limits the result's validity.
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 impl GreenKuboResult {
@@ -77,6 +80,7 @@ impl GreenKuboResult {
             max_lag_tau_b: run.max_lag_tau_b,
             every_steps: run.every,
             code_version: code_version.into(),
+            warnings: scene.warnings.clone(),
         })
     }
 

@@ -32,7 +32,8 @@ impl ProfileProblem {
     /// The scene's forcing `u_inf(y)` at its bin centres and averaged over its bins, with the
     /// drag coefficient `c = 6 pi eta <a> / <V_p>` of its particle mix (Stokes drag per
     /// particle over mean particle volume, thesis eq 3.5). A scene of homogeneous shear has
-    /// no forcing profile and is refused.
+    /// no forcing profile and is refused, and so is a Brownian scene, whose rheology lies
+    /// outside the closures' domain (they are of non-Brownian runs).
     pub fn from_scene(scene: &Scene) -> Result<Self> {
         if scene.shear_rate().is_some() {
             return Err(SolverError::InvalidArgument(
@@ -40,6 +41,14 @@ impl ProfileProblem {
                  the solver takes scenes with fluid.profile"
                     .to_owned(),
             ));
+        }
+        if let Some(thermal) = &scene.thermal {
+            return Err(SolverError::InvalidArgument(format!(
+                "the scene has Brownian forces (fluid.kT = {}, tau_B = {:.3e}): the closures \
+                 are learned from and fitted to non-Brownian runs, outside whose domain its \
+                 rheology lies; simulate it instead",
+                thermal.kt, thermal.tau_b
+            )));
         }
         let f = &scene.file;
         let width = f.run.bin_width;

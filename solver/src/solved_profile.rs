@@ -191,7 +191,9 @@ impl SolvedProfile<'_> {
         sim::RunFolder::new(dir)
             .record_scene(&self.scene.file)
             .map_err(|e| io(dir, e.to_string()))?;
-        for (name, bytes) in [(PROFILE, self.table()?), (SUMMARY, json.into_bytes())] {
+        // The profile last: it is what marks a finished solve (an earlier solution that a
+        // re-run refuses to replace), so a write that fails leaves none.
+        for (name, bytes) in [(SUMMARY, json.into_bytes()), (PROFILE, self.table()?)] {
             let path = dir.join(name);
             schema::write_atomic(&path, &bytes).map_err(|e| io(&path, e.to_string()))?;
         }

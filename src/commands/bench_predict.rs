@@ -95,6 +95,6 @@ fn write_synthetic_profile(rows: u64) -> anyhow::Result<PathBuf> {
     }
     let path =
         std::env::temp_dir().join(format!("suspflow-bench-predict-{}.csv", std::process::id()));
-    std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
+    schema::write_atomic(&path, csv.as_bytes())?;
     Ok(path)
 }

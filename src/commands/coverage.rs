@@ -29,7 +29,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .iter()
         .map(Dataset::read_csv)
         .collect::<Result<Vec<_>, _>>()?;
-    crate::output_guard::out_dir(&args.out)?;
+    let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow coverage`")?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let names: Vec<String> = args.data.iter().map(|p| file_name(p)).collect();

@@ -82,7 +82,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
     let dataset = Dataset::read_csv(&args.data)?;
     let mappings = Mapping::select(&args.mappings)?;
-    crate::output_guard::out_dir(&args.out)?;
+    let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow cross-validate`")?;
     let (report, json) = (args.out.join("report.md"), args.out.join("cv.json"));
     for path in [&report, &json] {
         crate::output_guard::refuse_unless_force(
@@ -170,12 +170,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         learning_curves: &curves,
         intervals: &intervals,
     };
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    std::fs::write(&json, serde_json::to_string_pretty(&record)? + "\n")
-        .with_context(|| format!("writing {}", json.display()))?;
-    std::fs::write(&report, markdown(&record, &args.models))
-        .with_context(|| format!("writing {}", report.display()))?;
+    schema::write_atomic(
+        &json,
+        (serde_json::to_string_pretty(&record)? + "\n").as_bytes(),
+    )?;
+    schema::write_atomic(&report, markdown(&record, &args.models).as_bytes())?;
     eprintln!(
         "cross-validation of {} mapping(s) in {seconds:.1} s: {} and {}",
         results.len(),

@@ -59,13 +59,32 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, false)?;
-    crate::output_guard::out_dir(&args.out)?;
+    let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow flow-curves`")?;
     let green_kubo = args
         .green_kubo
         .iter()
         .map(|d| GreenKuboResult::read(d))
         .collect::<Result<Vec<_>, _>>()?;
-    let FlowRuns { points, missing } = FlowRuns::read(&grid, &args.runs, &green_kubo)?;
+    refuse_repeated_green_kubo(&args.green_kubo, &green_kubo)?;
+    let runs = FlowRuns::read(&grid, &args.runs, &green_kubo)
+        .with_context(|| format!("--runs {}", args.runs.display()))?;
+    if let Some(&k) = runs.unmatched(&green_kubo).first() {
+        let mut phis: Vec<String> = runs
+            .points
+            .iter()
+            .map(|p| format!("{:.4}", p.point.phi_actual))
+            .collect();
+        phis.sort();
+        phis.dedup();
+        anyhow::bail!(
+            "--green-kubo {}: its volume fraction {:.4} is that of no finished run (theirs: {}); \
+             give the Green-Kubo runs of the grid's volume fractions",
+            args.green_kubo[k].display(),
+            green_kubo[k].phi_actual,
+            phis.join(", ")
+        );
+    }
+    let FlowRuns { points, missing } = runs;
     if !missing.is_empty() {
         eprintln!(
             "warning: {} of {} runs not finished in {} (run `suspflow generate {} --out ... --work {}`): {}",
@@ -105,8 +124,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "an earlier flow-curve result",
         "choose another --out",
     )?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
     FlowCurveRow::write_all(&args.out.join("flow_curves.csv"), &points)?;
     let first_fit = fits
         .iter()
@@ -130,5 +147,25 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     write_atomic(&readme, text.as_bytes())?;
     print!("{text}");
     eprintln!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// Refuses a Green-Kubo folder given twice, or two with the same result (a copied folder):
+/// each would count as a replica, and the spread between replicas, the error, would vanish.
+fn refuse_repeated_green_kubo(dirs: &[PathBuf], results: &[GreenKuboResult]) -> anyhow::Result<()> {
+    for (j, (dir, result)) in dirs.iter().zip(results).enumerate() {
+        let same = |k: usize| {
+            results[k] == *result
+                || std::fs::canonicalize(&dirs[k]).ok() == std::fs::canonicalize(dir).ok()
+        };
+        if let Some(k) = (0..j).find(|&k| same(k)) {
+            anyhow::bail!(
+                "--green-kubo {} and {} are the same run: each replica counts once (the \
+                 error is their spread)",
+                dirs[k].display(),
+                dir.display()
+            );
+        }
+    }
     Ok(())
 }

@@ -5,6 +5,7 @@
 //! (`green_kubo.json`), in units of the fluid viscosity as a part of `eta_r`.
 use crate::exit_status::Stop;
 use rheometry::green_kubo::{run_in_folder, WRITTEN};
+use sim::input::run_cost::RunCost;
 use sim::input::scene::Scene;
 use sim::run::green_kubo::{GreenKuboJob, GreenKuboRun};
 use sim::run::run_folder::{Ended, RunFolder, RunStatus};
@@ -48,15 +49,6 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    for (name, v) in [
-        ("--warmup", args.warmup),
-        ("--span", args.span),
-        ("--max-lag", args.max_lag),
-    ] {
-        if !(v.is_finite() && v >= 0.0) || (name != "--warmup" && v == 0.0) {
-            anyhow::bail!("{name} must be a positive number of tau_B, got {v}");
-        }
-    }
     let scene = Scene::from_path(&args.scene, false)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
@@ -85,8 +77,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         blocks: args.blocks,
     };
     // Checked before the folder is made: a run that cannot give a result does not start.
-    sim::run::Job::check(&GreenKuboJob::new(&scene, plan))?;
+    let job = GreenKuboJob::new(&scene, plan);
+    sim::run::Job::check(&job)?;
     scene.check_fits_here()?;
+    let cost = job.cost();
+    eprintln!(
+        "estimated at most {} here ({:.2e} particle-steps)",
+        RunCost::describe(cost.seconds()),
+        cost.equilibration_particle_steps + cost.averaging_particle_steps
+    );
+    if let Ok(Some(long)) = cost.check_levers("") {
+        eprintln!("warning: {long}");
+    }
     let _lock = folder.lock("`suspflow green-kubo`")?;
     if args.resume {
         folder.prepare(&scene.file)?;
@@ -139,6 +141,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         g.extrapolated_eta_brownian_over_eta_se,
         g.relaxation_tau_b
     );
+    for w in &g.warnings {
+        eprintln!("warning (kept in {}): {w}", rheometry::green_kubo::JSON);
+    }
     eprintln!("wrote {}", args.out.display());
     Ok(())
 }

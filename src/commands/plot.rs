@@ -29,7 +29,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let data = Dataset::read_csv(&args.data)?;
-    crate::output_guard::out_dir(&args.out)?;
+    let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow plot`")?;
     let ids = data.group_keys()?;
     let scenes = scene_order(ids, &data)?;
     std::fs::create_dir_all(&args.out)

@@ -71,9 +71,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let out = table.to_csv()?;
     match &args.out {
-        Some(path) => {
-            std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))?
-        }
+        Some(path) => schema::write_atomic(path, out.as_bytes())?,
         None => print!("{out}"),
     }
     eprintln!(

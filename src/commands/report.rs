@@ -170,8 +170,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// The scenes of `grid`; in quick mode with the box shrunk to [`QUICK_BOX`] across.
+/// Refuses, before any run, a Brownian scene: the report sets the runs beside the
+/// surrogates and the solver, whose closures are of non-Brownian runs.
 fn validation_scenes(grid: &Path, full: bool) -> anyhow::Result<Vec<sim::input::scene::Scene>> {
+    let path = grid;
     let grid = sim::input::grid::Grid::from_path(grid, false)?;
+    if let Some(brownian) = grid.runs.iter().find(|g| g.scene.thermal.is_some()) {
+        anyhow::bail!(
+            "--scenes {}: scene {} is Brownian (fluid.kT = {}), but the report compares the \
+             runs with the surrogates and the solver, which are of non-Brownian runs; give a \
+             grid of non-Brownian profile scenes (e.g. grids/validate.toml)",
+            path.display(),
+            brownian.id,
+            brownian.scene.file.fluid.kt
+        );
+    }
     grid.runs
         .into_iter()
         .map(|g| {

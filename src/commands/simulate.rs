@@ -193,7 +193,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 /// Derived quantities of a valid scene.
 fn print_check(scene: &Scene) -> anyhow::Result<()> {
-    sim::input::scene_limits::check_driven(&scene.file)?;
+    sim::input::scene_limits::check_driven(&scene.file, scene.gdot_max())?;
     scene.check_fits_here()?;
     let t = scene.timestep;
     let r = &scene.file.run;

@@ -74,7 +74,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let problem = ProfileProblem::from_scene(&scene)
         .with_context(|| format!("{}: nothing to solve", args.scene.display()))?;
     let profile_csv = args.out.join("profile.csv");
-    output_guard::out_dir(&args.out)?;
+    let _lock = output_guard::claim_dir(&args.out, "`suspflow solve`")?;
     output_guard::refuse_unless_force(
         &profile_csv,
         args.force,

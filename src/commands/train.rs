@@ -57,7 +57,7 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let dataset = Dataset::read_csv(&args.data)?;
     let mappings = Mapping::select(&args.mappings)?;
-    crate::output_guard::out_dir(&args.out)?;
+    let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow train`")?;
     for mapping in &mappings {
         // The trees and their sidecars (surrogate's model and tuning files): any one of
         // them alone is a user's file too.

@@ -9,11 +9,31 @@ use std::path::Path;
 /// A chart drawn (for `'a`) on an SVG canvas (writing for `'b`) with axes of types `X`, `Y`.
 pub type Chart<'a, 'b, X, Y> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, Y>>;
 
-/// The 760 x 520 SVG canvas of the file `path`, white.
-pub fn canvas(path: &Path) -> anyhow::Result<DrawingArea<SVGBackend<'_>, Shift>> {
-    let root = SVGBackend::new(path, (760, 520)).into_drawing_area();
-    root.fill(&WHITE)?;
-    Ok(root)
+/// Draws with `draw` on a white SVG canvas of `size` pixels and writes it to the file
+/// `path` whole ([`schema::write_atomic`]: never through a link, never half-written): the
+/// one writer of every figure.
+pub fn svg_file(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let mut text = String::new();
+    {
+        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+        root.fill(&WHITE)?;
+        draw(&root)?;
+        root.present()?;
+    }
+    schema::write_atomic(path, text.as_bytes())?;
+    Ok(())
+}
+
+/// [`svg_file`] on the 760 x 520 canvas of the line charts.
+pub fn canvas(
+    path: &Path,
+    draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    svg_file(path, (760, 520), draw)
 }
 
 /// A captioned chart on `root` over the axes `x` and `y` (ranges, possibly log-scaled),

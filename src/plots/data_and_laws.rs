@@ -92,44 +92,44 @@ where
     X: AsRangedCoord<Value = f64>,
     X::CoordDescType: ValueFormatter<f64>,
 {
-    let root = canvas(path)?;
-    let mut chart = chart(&root, title, axes, x_axis, (y0..y1).log_scale())?;
-    for (i, d) in data.iter().enumerate() {
-        let colour = COLOURS[i % COLOURS.len()];
-        let pts: Vec<(f64, f64, f64)> = d
-            .points
-            .iter()
-            .copied()
-            .filter(|&(x, y, _)| usable(x, y))
-            .collect();
-        chart.draw_series(pts.iter().map(|&(x, y, se)| {
-            let lo = (y - se).max(y0);
-            ErrorBar::new_vertical(x, lo, y, y + se, colour.stroke_width(1), 6)
-        }))?;
-        chart
-            .draw_series(
-                pts.iter()
-                    .map(|&(x, y, _)| Circle::new((x, y), 4, colour.filled())),
-            )?
-            .label(d.name.as_str())
-            .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
-    }
-    for (i, c) in curves.iter().enumerate() {
-        let colour = COLOURS[(data.len() + i) % COLOURS.len()];
-        let pts: Vec<(f64, f64)> = c
-            .points
-            .iter()
-            .copied()
-            .filter(|&(x, y)| usable(x, y))
-            .collect();
-        chart
-            .draw_series(DashedLineSeries::new(pts, 8, 4, colour.stroke_width(2)))?
-            .label(c.name.as_str())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
-    }
-    legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
-    root.present()?;
-    Ok(())
+    canvas(path, |root| {
+        let mut chart = chart(root, title, axes, x_axis, (y0..y1).log_scale())?;
+        for (i, d) in data.iter().enumerate() {
+            let colour = COLOURS[i % COLOURS.len()];
+            let pts: Vec<(f64, f64, f64)> = d
+                .points
+                .iter()
+                .copied()
+                .filter(|&(x, y, _)| usable(x, y))
+                .collect();
+            chart.draw_series(pts.iter().map(|&(x, y, se)| {
+                let lo = (y - se).max(y0);
+                ErrorBar::new_vertical(x, lo, y, y + se, colour.stroke_width(1), 6)
+            }))?;
+            chart
+                .draw_series(
+                    pts.iter()
+                        .map(|&(x, y, _)| Circle::new((x, y), 4, colour.filled())),
+                )?
+                .label(d.name.as_str())
+                .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
+        }
+        for (i, c) in curves.iter().enumerate() {
+            let colour = COLOURS[(data.len() + i) % COLOURS.len()];
+            let pts: Vec<(f64, f64)> = c
+                .points
+                .iter()
+                .copied()
+                .filter(|&(x, y)| usable(x, y))
+                .collect();
+            chart
+                .draw_series(DashedLineSeries::new(pts, 8, 4, colour.stroke_width(2)))?
+                .label(c.name.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+        }
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+        Ok(())
+    })
 }

@@ -65,38 +65,40 @@ fn draw_inner(
     let bounds = |f: fn((f64, f64)) -> f64| log_bounds(usable(lines).map(f), 1.5);
     let (x0, x1) = bounds(|p| p.0);
     let (y0, y1) = bounds(|p| p.1);
-    let root = canvas(path)?;
-    let mut chart = chart(
-        &root,
-        title,
-        axes,
-        (x0..x1).log_scale(),
-        (y0..y1).log_scale(),
-    )?;
-    for (i, line) in lines.iter().enumerate() {
-        let colour = COLOURS[i % COLOURS.len()];
-        let pts: Vec<(f64, f64)> = usable(std::slice::from_ref(line)).collect();
-        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
-        chart
-            .draw_series(LineSeries::new(pts, colour.stroke_width(2)))?
-            .label(line.name.as_str())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
-    }
-    if let (Some(slope), Some((gx, gy))) = (guide, usable(lines).next()) {
-        let ends = [x0, x1].map(|x| (x, gy * (x / gx).powf(slope)));
-        chart
-            .draw_series(DashedLineSeries::new(
-                ends,
-                6,
-                4,
-                RGBColor(120, 120, 120).stroke_width(1),
-            ))?
-            .label(format!("slope {slope}"))
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RGBColor(120, 120, 120)));
-    }
-    legend(&mut chart, SeriesLabelPosition::UpperRight)?;
-    root.present()?;
-    Ok(())
+    canvas(path, |root| {
+        let mut chart = chart(
+            root,
+            title,
+            axes,
+            (x0..x1).log_scale(),
+            (y0..y1).log_scale(),
+        )?;
+        for (i, line) in lines.iter().enumerate() {
+            let colour = COLOURS[i % COLOURS.len()];
+            let pts: Vec<(f64, f64)> = usable(std::slice::from_ref(line)).collect();
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+            chart
+                .draw_series(LineSeries::new(pts, colour.stroke_width(2)))?
+                .label(line.name.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+        }
+        if let (Some(slope), Some((gx, gy))) = (guide, usable(lines).next()) {
+            let ends = [x0, x1].map(|x| (x, gy * (x / gx).powf(slope)));
+            chart
+                .draw_series(DashedLineSeries::new(
+                    ends,
+                    6,
+                    4,
+                    RGBColor(120, 120, 120).stroke_width(1),
+                ))?
+                .label(format!("slope {slope}"))
+                .legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], RGBColor(120, 120, 120))
+                });
+        }
+        legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+        Ok(())
+    })
 }

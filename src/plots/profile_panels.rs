@@ -7,6 +7,7 @@
 //! series keeps its colour in every panel of the figure, and one legend below the panels
 //! names them all. Text is left to the SVG viewer's sans-serif font.
 
+use crate::plots::chart_frame::svg_file;
 use std::ops::Range;
 use std::path::Path;
 
@@ -73,75 +74,76 @@ pub fn profile_panels(path: &Path, title: &str, panels: &[Panel]) -> anyhow::Res
 
 fn draw(path: &Path, title: &str, panels: &[Panel]) -> anyhow::Result<()> {
     let width = PANEL_WIDTH * u32::try_from(panels.len().max(1))?;
-    let root = SVGBackend::new(path, (width, HEIGHT)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let root = root.titled(title, ("sans-serif", 18))?;
-    let (root, legend) = root.split_vertically(HEIGHT - LEGEND_HEIGHT - 30);
-    let names = series_names(panels);
-    let colour = |name: &str| {
-        let index = names.iter().position(|n| n == name).unwrap_or(0);
-        COLOURS[index % COLOURS.len()]
-    };
-    let y_range = padded(panels.iter().flat_map(|p| &p.series).flat_map(|s| {
-        s.points
-            .iter()
-            .filter(|(y, v)| y.is_finite() && v.is_finite())
-            .map(|&(y, _)| y)
-    }));
-    for (panel, area) in panels.iter().zip(root.split_evenly((1, panels.len()))) {
-        let mut chart = ChartBuilder::on(&area)
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(50)
-            .build_cartesian_2d(value_range(panel), y_range.clone())?;
-        chart
-            .configure_mesh()
-            .x_desc(with_units(&panel.quantity))
-            .y_desc(with_units("y"))
-            .x_labels(5)
-            .draw()?;
-        for series in &panel.series {
-            let colour = colour(&series.name);
-            let points: Vec<(f64, f64)> = finite_points(series)
-                .map(|(y, value, _)| (value, y))
-                .collect();
-            if series.errors.is_some() {
-                chart.draw_series(finite_points(series).map(|(y, value, error)| {
-                    let error = if error.is_finite() { error } else { 0.0 };
-                    ErrorBar::new_horizontal(
-                        y,
-                        value - error,
-                        value,
-                        value + error,
-                        colour.mix(0.6).stroke_width(1),
-                        6,
-                    )
-                }))?;
-                chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
-            } else {
-                chart.draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.filled())))?;
-                chart.draw_series(LineSeries::new(points, colour.stroke_width(2)))?;
+    svg_file(path, (width, HEIGHT), |root| {
+        let root = root.titled(title, ("sans-serif", 18))?;
+        let (root, legend) = root.split_vertically(HEIGHT - LEGEND_HEIGHT - 30);
+        let names = series_names(panels);
+        let colour = |name: &str| {
+            let index = names.iter().position(|n| n == name).unwrap_or(0);
+            COLOURS[index % COLOURS.len()]
+        };
+        let y_range = padded(panels.iter().flat_map(|p| &p.series).flat_map(|s| {
+            s.points
+                .iter()
+                .filter(|(y, v)| y.is_finite() && v.is_finite())
+                .map(|&(y, _)| y)
+        }));
+        for (panel, area) in panels.iter().zip(root.split_evenly((1, panels.len()))) {
+            let mut chart = ChartBuilder::on(&area)
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(50)
+                .build_cartesian_2d(value_range(panel), y_range.clone())?;
+            chart
+                .configure_mesh()
+                .x_desc(with_units(&panel.quantity))
+                .y_desc(with_units("y"))
+                .x_labels(5)
+                .draw()?;
+            for series in &panel.series {
+                let colour = colour(&series.name);
+                let points: Vec<(f64, f64)> = finite_points(series)
+                    .map(|(y, value, _)| (value, y))
+                    .collect();
+                if series.errors.is_some() {
+                    chart.draw_series(finite_points(series).map(|(y, value, error)| {
+                        let error = if error.is_finite() { error } else { 0.0 };
+                        ErrorBar::new_horizontal(
+                            y,
+                            value - error,
+                            value,
+                            value + error,
+                            colour.mix(0.6).stroke_width(1),
+                            6,
+                        )
+                    }))?;
+                    chart
+                        .draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+                } else {
+                    chart
+                        .draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.filled())))?;
+                    chart.draw_series(LineSeries::new(points, colour.stroke_width(2)))?;
+                }
             }
         }
-    }
-    let mut x = 60;
-    let y = i32::try_from(LEGEND_HEIGHT / 2)?;
-    for name in &names {
-        let colour = colour(name);
-        legend.draw(&PathElement::new(
-            vec![(x, y), (x + 24, y)],
-            colour.stroke_width(2),
-        ))?;
-        legend.draw(&Circle::new((x + 12, y), 3, colour.filled()))?;
-        legend.draw(&Text::new(
-            name.as_str(),
-            (x + 30, y - 7),
-            ("sans-serif", 14),
-        ))?;
-        x += 50 + 8 * i32::try_from(name.len())?;
-    }
-    root.present()?;
-    Ok(())
+        let mut x = 60;
+        let y = i32::try_from(LEGEND_HEIGHT / 2)?;
+        for name in &names {
+            let colour = colour(name);
+            legend.draw(&PathElement::new(
+                vec![(x, y), (x + 24, y)],
+                colour.stroke_width(2),
+            ))?;
+            legend.draw(&Circle::new((x + 12, y), 3, colour.filled()))?;
+            legend.draw(&Text::new(
+                name.as_str(),
+                (x + 30, y - 7),
+                ("sans-serif", 14),
+            ))?;
+            x += 50 + 8 * i32::try_from(name.len())?;
+        }
+        Ok(())
+    })
 }
 
 /// The drawable points of `series` as `(y, value, error)`; the error is NaN for a curve.

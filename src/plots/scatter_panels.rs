@@ -3,6 +3,7 @@
 //! keeps its colour in every panel), with one legend per panel.
 use crate::plots::axis_label::with_units;
 use crate::plots::chart_frame::formatter;
+use crate::plots::chart_frame::svg_file;
 use crate::plots::figure_data::{self, Row};
 use crate::plots::profile_panels::COLOURS;
 use anyhow::Context;
@@ -79,32 +80,32 @@ fn bounds(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
 
 fn draw(path: &Path, title: &str, panels: &[ScatterPanel]) -> anyhow::Result<()> {
     let width = PANEL_SIZE.0 * u32::try_from(panels.len().max(1))?;
-    let root = SVGBackend::new(path, (width, PANEL_SIZE.1)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let root = root.titled(title, ("sans-serif", 18))?;
-    let areas = root.split_evenly((1, panels.len().max(1)));
-    for (panel, area) in panels.iter().zip(&areas) {
-        let all = || panel.sets.iter().flat_map(|s| drawn(panel, s));
-        let (x0, x1) = bounds(all().map(|p| p.0), true);
-        let (y0, y1) = bounds(all().map(|p| p.1), panel.log_y);
-        let mut builder = ChartBuilder::on(area);
-        builder
-            .margin(14)
-            .x_label_area_size(44)
-            .y_label_area_size(64);
-        // The two axis kinds are different types: one branch each.
-        if panel.log_y {
-            let chart = builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
-            fill(chart, panel)?;
-        } else {
-            fill(
-                builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?,
-                panel,
-            )?;
+    svg_file(path, (width, PANEL_SIZE.1), |root| {
+        let root = root.titled(title, ("sans-serif", 18))?;
+        let areas = root.split_evenly((1, panels.len().max(1)));
+        for (panel, area) in panels.iter().zip(&areas) {
+            let all = || panel.sets.iter().flat_map(|s| drawn(panel, s));
+            let (x0, x1) = bounds(all().map(|p| p.0), true);
+            let (y0, y1) = bounds(all().map(|p| p.1), panel.log_y);
+            let mut builder = ChartBuilder::on(area);
+            builder
+                .margin(14)
+                .x_label_area_size(44)
+                .y_label_area_size(64);
+            // The two axis kinds are different types: one branch each.
+            if panel.log_y {
+                let chart =
+                    builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+                fill(chart, panel)?;
+            } else {
+                fill(
+                    builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?,
+                    panel,
+                )?;
+            }
         }
-    }
-    root.present()?;
-    Ok(())
+        Ok(())
+    })
 }
 
 /// Draws the axes of `chart`, each set of `panel` as small circles, and the legend.

@@ -2,6 +2,7 @@
 //! its stability map, one row per (parameter, value), one column per dt multiple, each
 //! cell coloured by the outcome (green stable, yellow finished but inaccurate, red blow-up
 //! caught and explained, orange any other failure), as SVG.
+use crate::plots::chart_frame::svg_file;
 use anyhow::Context;
 use plotters::prelude::*;
 use sim::studies::stability_sweep::{
@@ -22,51 +23,51 @@ fn draw(path: &Path, results: &[CaseResult]) -> anyhow::Result<()> {
         (LABEL_W + CELL_W * DT_FACTORS.len() as i32 + 20) as u32,
         (TOP + CELL_H * rows as i32 + 40) as u32,
     );
-    let root = SVGBackend::new(path, size).into_drawing_area();
-    let svg_err = |e| anyhow::anyhow!("drawing {}: {e:?}", path.display());
-    root.fill(&WHITE).map_err(svg_err)?;
-    let text = |s: String, x: i32, y: i32| Text::new(s, (x, y), ("sans-serif", 13).into_font());
-    root.draw(&text(
-        "stability map (columns: dt / automatic dt)".into(),
-        10,
-        8,
-    ))
-    .map_err(svg_err)?;
-    for (c, f) in DT_FACTORS.iter().enumerate() {
+    svg_file(path, size, |root| {
+        let svg_err = |e| anyhow::anyhow!("drawing {}: {e:?}", path.display());
+        let text = |s: String, x: i32, y: i32| Text::new(s, (x, y), ("sans-serif", 13).into_font());
         root.draw(&text(
-            format!("x {f}"),
-            LABEL_W + CELL_W * c as i32 + 25,
-            TOP - 18,
+            "stability map (columns: dt / automatic dt)".into(),
+            10,
+            8,
         ))
         .map_err(svg_err)?;
-    }
-    for (k, r) in results.iter().enumerate() {
-        let (row, col) = ((k / DT_FACTORS.len()) as i32, (k % DT_FACTORS.len()) as i32);
-        let (x, y) = (LABEL_W + CELL_W * col, TOP + CELL_H * row);
-        if col == 0 {
+        for (c, f) in DT_FACTORS.iter().enumerate() {
             root.draw(&text(
-                format!("{} = {}", r.case.parameter, r.case.value),
-                10,
-                y + 4,
+                format!("x {f}"),
+                LABEL_W + CELL_W * c as i32 + 25,
+                TOP - 18,
             ))
             .map_err(svg_err)?;
         }
-        let colour = match (r.status, r.cause_named) {
-            (Stability::Stable, _) => RGBColor(120, 200, 120),
-            (Stability::Inaccurate, _) => RGBColor(240, 220, 90),
-            (Stability::BlowUp, true) => RGBColor(220, 90, 90),
-            _ => RGBColor(240, 170, 60),
-        };
-        root.draw(&Rectangle::new(
-            [(x, y), (x + CELL_W - 4, y + CELL_H - 4)],
-            colour.filled(),
-        ))
-        .map_err(svg_err)?;
-        root.draw(&text(r.status.to_string(), x + 6, y + 3))
+        for (k, r) in results.iter().enumerate() {
+            let (row, col) = ((k / DT_FACTORS.len()) as i32, (k % DT_FACTORS.len()) as i32);
+            let (x, y) = (LABEL_W + CELL_W * col, TOP + CELL_H * row);
+            if col == 0 {
+                root.draw(&text(
+                    format!("{} = {}", r.case.parameter, r.case.value),
+                    10,
+                    y + 4,
+                ))
+                .map_err(svg_err)?;
+            }
+            let colour = match (r.status, r.cause_named) {
+                (Stability::Stable, _) => RGBColor(120, 200, 120),
+                (Stability::Inaccurate, _) => RGBColor(240, 220, 90),
+                (Stability::BlowUp, true) => RGBColor(220, 90, 90),
+                _ => RGBColor(240, 170, 60),
+            };
+            root.draw(&Rectangle::new(
+                [(x, y), (x + CELL_W - 4, y + CELL_H - 4)],
+                colour.filled(),
+            ))
             .map_err(svg_err)?;
-    }
-    root.present()
-        .with_context(|| format!("writing {}", path.display()))
+            root.draw(&text(r.status.to_string(), x + 6, y + 3))
+                .map_err(svg_err)?;
+        }
+        Ok(())
+    })
+    .with_context(|| format!("drawing {}", path.display()))
 }
 
 /// Draws `stability_map.svg` into `dir` and returns the section's markdown for `results`

@@ -240,6 +240,29 @@ impl Composition {
             peclet_cg: peclet(a_cg),
         }
     }
+
+    /// Refuses a mixture of both species (`0 < alpha < 1`) whose `n_particles` place only
+    /// one of them: its runs would be of the other alone, reported under the nominal alpha.
+    pub fn check(&self, n_particles: usize) -> Result<(), SimError> {
+        let placed = if self.alpha_actual == 0.0 {
+            "no grain"
+        } else if self.alpha_actual == 1.0 {
+            "no colloid"
+        } else {
+            return Ok(());
+        };
+        if self.alpha == 0.0 || self.alpha == 1.0 {
+            return Ok(());
+        }
+        Err(SimError::field(
+            "particles.mixture.alpha",
+            format!(
+                "{} places {placed} among the box's {n_particles} particles (their counts \
+                 round it to {}): enlarge the box or choose an alpha further from 0 and 1",
+                self.alpha, self.alpha_actual
+            ),
+        ))
+    }
 }
 
 #[cfg(test)]

@@ -79,24 +79,27 @@ impl RunCost {
     /// Refuses a run longer than [`REFUSE_SECONDS`] (or of no finite length) and returns
     /// a warning for one longer than [`WARN_SECONDS`].
     pub fn check(&self) -> Result<Option<String>, SimError> {
+        self.check_levers(
+            "the time step (forces.k_n, forces.xi_min, run.dt_factor, run.dt, the radii), the \
+             shear rate of the flow, run.max_strain or run.snapshots are extreme",
+        )
+        .map_err(|message| SimError::field("run", message))
+    }
+
+    /// [`RunCost::check`] of any run: the refusal (its message, ending with `levers`, what
+    /// sets the run's length) or the warning.
+    pub fn check_levers(&self, levers: &str) -> Result<Option<String>, String> {
         let s = self.seconds();
         let what = format!(
-            "{:.2e} steps per unit strain, at most {:.2e} particle-steps, about {} here at {} \
-             particle-steps/s",
+            "{:.2e} steps per unit strain (or tau_B), at most {:.2e} particle-steps, about {} \
+             here at {} particle-steps/s",
             self.steps_per_strain,
             self.equilibration_particle_steps + self.averaging_particle_steps,
             Self::describe(s),
             show(self.rate)
         );
         if !(..=REFUSE_SECONDS).contains(&s) {
-            return Err(SimError::field(
-                "run",
-                format!(
-                    "the run cannot finish: {what}; the time step (forces.k_n, forces.xi_min, \
-                     run.dt_factor, run.dt, the radii), the shear rate of the flow, \
-                     run.max_strain or run.snapshots are extreme"
-                ),
-            ));
+            return Err(format!("the run cannot finish: {what}; {levers}"));
         }
         Ok((s > WARN_SECONDS).then(|| format!("long run: {what}")))
     }

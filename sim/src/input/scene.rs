@@ -291,7 +291,9 @@ impl Scene {
             .particles
             .mixture
             .as_ref()
-            .map(|m| Composition::of(m, &counts, file.fluid.eta, gdot_max, file.fluid.kt));
+            .map(|m| Composition::of(m, &counts, file.fluid.eta, gdot_max, file.fluid.kt))
+            .map(|c| c.check(counts.iter().sum()).map(|()| c))
+            .transpose()?;
         let force_field = ForceField::from_file(&file);
         let timestep = TimeStep::choose(&file, (rho, gdot_max), &counts, &force_field);
         if let Some(w) = timestep.brownian_warning() {

@@ -269,9 +269,11 @@ fn check_box_holds_the_largest_pair(file: &SceneFile, a_max: f64) -> Result<(), 
 /// Fails when nothing drives the particles: drag off in a profile flow, whose only
 /// coupling to `fluid.profile` is the drag (the run would end with P <= 0 in every bin).
 /// Checked by a run and by `--check`, not by the scene: scenes without drag are how the
-/// other force terms are tested in isolation.
-pub fn check_driven(file: &SceneFile) -> Result<(), SimError> {
-    if !file.forces.drag && file.fluid.shear_rate.is_none() {
+/// other force terms are tested in isolation. A scene at rest (a Brownian suspension
+/// without flow, `gdot_max` = 0: its flow's largest shear rate) has no flow to drive and
+/// passes.
+pub fn check_driven(file: &SceneFile, gdot_max: f64) -> Result<(), SimError> {
+    if !file.forces.drag && file.fluid.shear_rate.is_none() && gdot_max > 0.0 {
         return Err(SimError::field(
             "forces.drag",
             "is off, but the drag is what drives a profile flow: without it the particles \

@@ -9,12 +9,27 @@ use std::fs::{File, OpenOptions, TryLockError};
 use std::io::{Read, Seek, Write};
 use std::path::Path;
 
+/// The lock file of an output folder, the same for every writer of one (a run, a
+/// Green-Kubo run, a cross-validation, flow curves, a solve), so that no two of them write
+/// one folder at once.
+pub const FOLDER_LOCK: &str = "run.lock";
+
 /// Held until dropped (or the process ends).
 pub struct FileLock {
     _file: File,
 }
 
 impl FileLock {
+    /// Creates the folder `dir` and takes its lock ([`FOLDER_LOCK`]); `holder` as in
+    /// [`FileLock::acquire`].
+    pub fn folder(dir: &Path, holder: &str) -> Result<FileLock, SimError> {
+        std::fs::create_dir_all(dir).map_err(|e| SimError::Output {
+            path: dir.display().to_string(),
+            message: e.to_string(),
+        })?;
+        FileLock::acquire(&dir.join(FOLDER_LOCK), &dir.display().to_string(), holder)
+    }
+
     /// Takes the lock at `path` (created if missing); `what` names the guarded output and
     /// `holder` the kind of writer that takes it (e.g. "`suspflow generate`"), in the
     /// refusal when another process holds it.

@@ -1,23 +1,32 @@
 //! The frames file of a run: a particle frame in a [`SnapshotFormat`] every `every` samples,
-//! appended to the file of the run a resumed run continues. A failed write is kept and
-//! reported at the end, so that the run itself goes on.
+//! appended to the file of the run a resumed run continues. A resumed run first cuts the
+//! file back to the frames of the samples before its own first one: frames that a run
+//! killed after its last checkpoint wrote are written again by the resumed run, and must
+//! not be there twice (time running backwards). A failed write is kept and reported at the
+//! end, so that the run itself goes on.
 use crate::error::SimError;
 use crate::integrate::simulation::Simulation;
 use crate::output::snapshot_format::SnapshotFormat;
-use std::path::Path;
+use std::io::{BufRead, Seek, SeekFrom};
+use std::path::{Path, PathBuf};
 
 /// An open frames file.
 pub struct FrameWriter {
     format: SnapshotFormat,
     every: u64,
+    path: PathBuf,
     file: std::fs::File,
+    /// A resumed run's file, not yet cut back to the frames before its first sample.
+    to_trim: bool,
     error: Option<SimError>,
 }
 
 impl FrameWriter {
-    /// Opens `dir/<format's file name>`: truncated, or appended to when `append` (a resumed run).
+    /// Opens `dir/<format's file name>`: truncated, or continued when `append` (a resumed run).
     /// Opened for reading and writing without `O_APPEND`: a GSD frame also updates the
-    /// file's index and header in place.
+    /// file's index and header in place. Only the text formats are cut back on resume (their
+    /// frames are lines); a GSD file keeps the frames a killed run wrote after its last
+    /// checkpoint (GSD readers index frames by step, so such a frame shows twice).
     pub fn open(
         dir: &Path,
         format: SnapshotFormat,
@@ -38,7 +47,9 @@ impl FrameWriter {
         Ok(Self {
             format,
             every: every.max(1),
+            path,
             file,
+            to_trim: append && format != SnapshotFormat::Gsd,
             error: None,
         })
     }
@@ -46,9 +57,48 @@ impl FrameWriter {
     /// After sample number `samples` of the run: writes a frame of `sim` when `samples` is a
     /// multiple of `every` and no write has failed yet.
     pub fn after_sample(&mut self, samples: u64, sim: &Simulation) {
-        if samples.is_multiple_of(self.every) && self.error.is_none() {
+        if self.error.is_some() {
+            return;
+        }
+        if std::mem::take(&mut self.to_trim) {
+            // The frames of samples 1 ..= samples - 1, each as many lines as this one's.
+            let kept = samples.saturating_sub(1) / self.every;
+            let trimmed = self
+                .format
+                .frame(sim)
+                .and_then(|frame| self.keep_lines(kept * frame.matches('\n').count() as u64));
+            if let Err(e) = trimmed {
+                self.error = Some(e);
+                return;
+            }
+        }
+        if samples.is_multiple_of(self.every) {
             self.error = self.format.append_frame(&mut self.file, sim).err();
         }
+    }
+
+    /// Cuts the file after its first `lines` lines (or keeps it whole if shorter, a partial
+    /// last line dropped) and moves to its end.
+    fn keep_lines(&mut self, lines: u64) -> Result<(), SimError> {
+        let io = |e: std::io::Error| SimError::Output {
+            path: self.path.display().to_string(),
+            message: format!("cutting back the frames of a resumed run: {e}"),
+        };
+        self.file.rewind().map_err(io)?;
+        let mut reader = std::io::BufReader::new(&self.file);
+        let (mut end, mut line) = (0u64, Vec::new());
+        for _ in 0..lines {
+            line.clear();
+            let read = reader.read_until(b'\n', &mut line).map_err(io)?;
+            if read == 0 || line.last() != Some(&b'\n') {
+                break;
+            }
+            end += read as u64;
+        }
+        drop(reader);
+        self.file.set_len(end).map_err(io)?;
+        self.file.seek(SeekFrom::End(0)).map_err(io)?;
+        Ok(())
     }
 
     /// The first failed write, if any.

@@ -3,6 +3,7 @@
 //! box ([`shell_shear_stress`]) sampled every few steps over a span, and its Green-Kubo
 //! integral ([`GreenKubo`]). A finished run extends to a longer span.
 use crate::error::SimError;
+use crate::input::run_cost::{RunCost, BROWNIAN_PARTICLE_STEPS_PER_S};
 use crate::input::scene::{Scene, SceneFile};
 use crate::input::thermal_scales::ThermalScales;
 use crate::integrate::simulation::{Simulation, SystemState};
@@ -58,10 +59,28 @@ impl<'a> GreenKuboJob<'a> {
         })
     }
 
-    /// Steps of `tau` Brownian times.
+    /// Steps per Brownian time `tau_B`.
+    fn steps_per_tau_b(&self) -> f64 {
+        self.scene.thermal.map_or(f64::NAN, |t| t.tau_b) / self.scene.timestep.dt
+    }
+
+    /// Steps of `tau` Brownian times (saturating: [`GreenKuboJob::cost`] refuses a run of
+    /// that many before it starts).
     fn steps(&self, tau: f64) -> u64 {
-        let tau_b = self.scene.thermal.map_or(f64::NAN, |t| t.tau_b);
-        (tau * tau_b / self.scene.timestep.dt).round() as u64
+        (tau * self.steps_per_tau_b()).round() as u64
+    }
+
+    /// What the run costs: the warm-up's and the span's particle-steps at the rate of a
+    /// Brownian scene here. [`Job::check`] refuses a run that cannot finish; the warning of
+    /// a long one is the caller's to show.
+    pub fn cost(&self) -> RunCost {
+        let per_tau_b = self.steps_per_tau_b() * self.scene.n_particles() as f64;
+        RunCost {
+            steps_per_strain: self.steps_per_tau_b(),
+            equilibration_particle_steps: self.run.warmup_tau_b * per_tau_b,
+            averaging_particle_steps: self.run.span_tau_b * per_tau_b,
+            rate: BROWNIAN_PARTICLE_STEPS_PER_S,
+        }
     }
 
     fn every(&self) -> u64 {
@@ -98,6 +117,26 @@ impl Job for GreenKuboJob<'_> {
                  fluid.shear_rate, fluid.profile or fluid.peclet",
             ));
         }
+        let lengths = [
+            ("warm-up", self.run.warmup_tau_b, true),
+            ("span", self.run.span_tau_b, false),
+            ("largest lag", self.run.max_lag_tau_b, false),
+        ];
+        for (what, tau, zero_allowed) in lengths {
+            if !(tau.is_finite() && (tau > 0.0 || (zero_allowed && tau == 0.0))) {
+                return Err(SimError::GreenKubo(format!(
+                    "the {what} of {tau} tau_B is not a {} number of Brownian times",
+                    if zero_allowed {
+                        "non-negative"
+                    } else {
+                        "positive"
+                    }
+                )));
+            }
+        }
+        self.cost()
+            .check_levers("shorten the warm-up or the span (in tau_B), or lengthen the step")
+            .map_err(SimError::GreenKubo)?;
         check_length(self.samples(), self.max_lag(), self.run.blocks)?;
         if self.max_lag() < 2 {
             return Err(SimError::GreenKubo(format!(
@@ -115,7 +154,7 @@ impl Job for GreenKuboJob<'_> {
             scene: self.scene.file.clone(),
             run: self.run,
             warmed_up: false,
-            series: Vec::with_capacity(self.samples()),
+            series: Vec::new(),
         }
     }
 

@@ -16,6 +16,7 @@ pub mod job;
 pub mod progress;
 pub mod run_folder;
 pub mod steady;
+pub mod threads;
 
 pub use job::{Job, Sampled};
 pub use progress::{Phase, Progress};

@@ -21,7 +21,7 @@ pub const CHECKPOINT: &str = "checkpoint.json";
 /// The reason a run failed.
 pub const FAILED: &str = "failed.txt";
 /// The lock of the process that writes the folder.
-pub const LOCK: &str = "run.lock";
+pub const LOCK: &str = crate::output::file_lock::FOLDER_LOCK;
 
 /// Where a run is.
 #[derive(Debug, PartialEq, Eq)]
@@ -94,12 +94,7 @@ impl RunFolder {
     /// Creates the folder and takes its lock for the life of the returned guard; `holder`
     /// names the writer in the refusal when another process holds it.
     pub fn lock(&self, holder: &str) -> Result<FileLock, SimError> {
-        std::fs::create_dir_all(&self.dir).map_err(|e| self.io(e))?;
-        FileLock::acquire(
-            &self.dir.join(LOCK),
-            &self.dir.display().to_string(),
-            holder,
-        )
+        FileLock::folder(&self.dir, holder)
     }
 
     /// Creates the folder for `file`, or checks that an existing one was made for the same

@@ -113,7 +113,7 @@ impl Job for SteadyRun<'_> {
     type Outcome = RunOutcome;
 
     fn check(&self) -> Result<(), SimError> {
-        crate::input::scene_limits::check_driven(&self.scene.file)
+        crate::input::scene_limits::check_driven(&self.scene.file, self.scene.gdot_max())
     }
 
     fn fresh(&self) -> RunState {
@@ -268,9 +268,17 @@ impl Job for SteadyRun<'_> {
 
     fn finish(&self, st: RunState, sim: &Simulation, wall_s: f64) -> Result<RunOutcome, SimError> {
         let (scene, ctx) = (self.scene, &self.ctx);
-        let profile = BinAverages::from_blocks(ctx, &st.averaging)?;
+        let mut profile = BinAverages::from_blocks(ctx, &st.averaging)?;
         let stress = StressParts::from_blocks(ctx, &st.averaging);
         let mut warnings = scene.warnings.clone();
+        if scene.gdot_max() == 0.0 {
+            profile.undefine_shear_observables();
+            warnings.push(
+                "no flow: J, mu, Theta and Delta_v are undefined at rest (no shear rate or \
+                 shear stress to scale them): empty fields"
+                    .into(),
+            );
+        }
         let undefined_bins = profile.undefined_bins();
         if !undefined_bins.is_empty() {
             warnings.push(format!(

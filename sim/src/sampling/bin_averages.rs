@@ -270,6 +270,18 @@ impl BinAverages {
         })
     }
 
+    /// Makes the observables of a shear undefined (NaN: empty fields) in every bin, mean and
+    /// standard error: J = eta gdot / P, mu = |sigma_xy| / P, Theta and Delta_v, which a
+    /// scene without flow has no shear rate or shear stress to scale (at rest they are
+    /// ratios of noise, Delta_v in the thousands).
+    pub fn undefine_shear_observables(&mut self) {
+        for o in [&mut self.mean, &mut self.se] {
+            for column in [&mut o.j, &mut o.mu, &mut o.theta, &mut o.delta_v] {
+                column.iter_mut().for_each(|v| *v = f64::NAN);
+            }
+        }
+    }
+
     /// Bins where P <= 0, so that J, mu and Theta are undefined.
     pub fn undefined_bins(&self) -> Vec<usize> {
         (0..self.y.len())

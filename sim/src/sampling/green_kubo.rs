@@ -49,7 +49,7 @@ pub struct GreenKubo {
 /// Refuses a series of `samples` too short for `blocks` parts of at least four times the
 /// largest lag `max_lag` (in samples) each.
 pub(crate) fn check_length(samples: usize, max_lag: usize, blocks: usize) -> Result<(), SimError> {
-    if blocks >= 2 && max_lag > 0 && samples >= blocks * 4 * max_lag {
+    if blocks >= 2 && max_lag > 0 && samples >= blocks.saturating_mul(4).saturating_mul(max_lag) {
         return Ok(());
     }
     Err(SimError::GreenKubo(format!(

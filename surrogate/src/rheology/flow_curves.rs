@@ -115,10 +115,16 @@ const GREEN_KUBO_PHI_MATCH: f64 = 1e-3;
 pub fn green_kubo_at(replicas: &[(f64, f64, f64)], phi_actual: f64) -> Option<(f64, f64)> {
     let here: Vec<(f64, f64)> = replicas
         .iter()
-        .filter(|(phi, _, _)| (phi - phi_actual).abs() < GREEN_KUBO_PHI_MATCH)
+        .filter(|(phi, _, _)| green_kubo_matches(*phi, phi_actual))
         .map(|&(_, eta, se)| (eta, se))
         .collect();
     (!here.is_empty()).then(|| seed_mean(&here))
+}
+
+/// Whether a Green-Kubo run at the realised volume fraction `replica_phi` is of a point at
+/// `phi_actual` (within [`GREEN_KUBO_PHI_MATCH`]).
+pub fn green_kubo_matches(replica_phi: f64, phi_actual: f64) -> bool {
+    (replica_phi - phi_actual).abs() < GREEN_KUBO_PHI_MATCH
 }
 
 /// Keeps the Green-Kubo viscosity of each point only at the lowest Peclet number of its

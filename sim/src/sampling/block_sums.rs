@@ -11,6 +11,20 @@ pub struct Estimate {
     pub se: f64,
 }
 
+impl Estimate {
+    /// The mean of block values and its batch-means standard error (sample standard
+    /// deviation over sqrt(blocks); zero spread for a single block).
+    pub fn of_blocks(values: &[f64]) -> Estimate {
+        let n = values.len() as f64;
+        let mean = values.iter().sum::<f64>() / n;
+        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        Estimate {
+            mean,
+            se: (var / n).sqrt(),
+        }
+    }
+}
+
 /// `blocks` consecutive groups of `per_block` snapshots, each holding the summed
 /// snapshot (`FIELDS x n_bins`).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]

@@ -76,15 +76,7 @@ impl SpeciesTemperatureSums {
         if filled.is_empty() {
             return Vec::new();
         }
-        let estimate = |values: Vec<f64>| {
-            let n = values.len() as f64;
-            let mean = values.iter().sum::<f64>() / n;
-            let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-            Estimate {
-                mean,
-                se: (var / n).sqrt(),
-            }
-        };
+        let estimate = |values: Vec<f64>| Estimate::of_blocks(&values);
         radii
             .iter()
             .zip(&self.sums)

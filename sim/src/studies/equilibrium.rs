@@ -107,17 +107,6 @@ pub struct EquilibriumCheck {
     pub carnahan_starling: Option<(f64, f64)>,
 }
 
-/// Mean and standard error of block values.
-fn estimate(values: &[f64]) -> Estimate {
-    let n = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / n;
-    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-    Estimate {
-        mean,
-        se: (var / n).sqrt(),
-    }
-}
-
 /// Least-squares line through `(x, y)`, evaluated at `x0`.
 fn line_at(points: &[(f64, f64)], x0: f64) -> f64 {
     let m = points.len() as f64;
@@ -230,7 +219,7 @@ pub fn check(scene: &Scene, blocks: usize) -> Result<EquilibriumCheck, SimError>
                 xi_hi: GAP_EDGES[k + 1],
                 count,
                 g: count as f64 / (total as f64 * ideal[k]),
-                minus_ln_g: estimate(&per_block),
+                minus_ln_g: Estimate::of_blocks(&per_block),
             }
         })
         .collect();
@@ -261,7 +250,7 @@ pub fn check(scene: &Scene, blocks: usize) -> Result<EquilibriumCheck, SimError>
                 })
                 .collect();
             let jump = if inside.len() >= 2 && outside.len() >= 2 {
-                estimate(&per_block)
+                Estimate::of_blocks(&per_block)
             } else {
                 Estimate {
                     mean: f64::NAN,
@@ -292,7 +281,7 @@ pub fn check(scene: &Scene, blocks: usize) -> Result<EquilibriumCheck, SimError>
     /// A statistic of each block's shell correlations `g(k)`, as an estimate over blocks.
     type ShellStatistic<'a> = &'a dyn Fn(&dyn Fn(usize) -> f64) -> f64;
     let per_block = |f: ShellStatistic| -> Estimate {
-        estimate(
+        Estimate::of_blocks(
             &(0..blocks)
                 .map(|b| f(&|k| g_block(b, k)))
                 .collect::<Vec<_>>(),

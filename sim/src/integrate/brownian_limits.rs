@@ -16,15 +16,15 @@
 //!   a step `CUTOFF_FRACTION / lambda` resolves it, and only a resolved step crosses the jump
 //!   of the mobility there without a spurious drift.
 //!
-//! Each bounds an artefact of the thermal motion whose size is set by kT and stays bounded
-//! however long the step (measured at rest: at most a few `n kT` of lubrication pressure,
-//! half a kT in the pair structure). In homogeneous shear at Peclet number
+//! Each bounds an artefact of the thermal motion whose size is set by kT (measured at rest:
+//! at most a few `n kT` of lubrication pressure, half a kT in the pair structure; sheared,
+//! it grows with the step beyond a relaxation time). In homogeneous shear at Peclet number
 //! `Pe = 6 pi eta a^3 gdot / kT` (`a` the smallest radius) the stresses are about `Pe`
 //! times the thermal scale (`sigma_xy / (n kT) = eta_r Pe / (4.5 phi)`, 300 at phi 0.45,
-//! eta_r 6, Pe 100), so the limits are relaxed by `max(1, Pe)` ([`peclet_allowance`]): the
-//! artefacts then stay the same share of the stress, and from Pe of about 10 on the step
-//! is that of the same scene without kT. Where the flow has a profile the local Peclet
-//! number falls to zero at the velocity extrema, and nothing is relaxed.
+//! eta_r 6, Pe 100), so the limits are relaxed by `max(1, Pe / PECLET_ONSET)`
+//! ([`peclet_allowance`], [`PECLET_ONSET`]): the artefacts then stay a bounded share of
+//! the stress. Where the flow has a profile the local Peclet number falls to zero at the
+//! velocity extrema, and nothing is relaxed.
 use crate::forces::drag;
 use crate::forces::force_field::ForceField;
 use crate::state::particles::{sphere_inertia, sphere_mass};
@@ -54,10 +54,20 @@ pub struct BrownianLimits {
     pub cutoff: f64,
 }
 
-/// The factor `max(1, Pe)` on the Brownian limits of a homogeneous shear at Peclet number
-/// `peclet` (`None`: at rest or a flow with a profile, factor 1).
+/// The Peclet number from which the Brownian limits of a homogeneous shear grow with `Pe`.
+/// Sheared at Pe 4.6, phi 0.55 (shipped units, two seeds): steps of 3 and 1.6 rotational
+/// relaxation times put the hydrodynamic part of eta_r 15.7 +- 1.8 and 10.0 +- 1.7 % above
+/// a ninth of the latter; a third of it (0.54 relaxation times, the step this onset gives)
+/// 0.8 +- 1.7 %. At Pe 100, 3 relaxation times agreed with 1 within 0.5 +- 0.7 %: at a
+/// fixed step the error falls about as `1 / Pe`. Not enough at phi 0.45 and Pe 4.6, where
+/// the hydrodynamic part still reads 8.6 +- 2.8 % above a third of this onset's step (two
+/// seeds; docs/physics.md section 11).
+pub const PECLET_ONSET: f64 = 3.0;
+
+/// The factor `max(1, Pe / PECLET_ONSET)` on the Brownian limits of a homogeneous shear at
+/// Peclet number `peclet` (`None`: at rest or a flow with a profile, factor 1).
 pub fn peclet_allowance(peclet: Option<f64>) -> f64 {
-    peclet.map_or(1.0, |pe| pe.max(1.0))
+    peclet.map_or(1.0, |pe| (pe / PECLET_ONSET).max(1.0))
 }
 
 impl BrownianLimits {

@@ -80,6 +80,8 @@ struct Record<'a> {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
+    // Checked first: the intervals come after every fold's fits.
+    surrogate::check_level(args.level)?;
     let dataset = Dataset::read_csv(&args.data)?;
     let mappings = Mapping::select(&args.mappings)?;
     let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow cross-validate`")?;

@@ -187,3 +187,30 @@ fn green_kubo_refuses_an_out_it_cannot_make_before_running() {
     assert!(started.elapsed().as_secs_f64() < 5.0);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `cross-validate --level 1.5` is refused before any fold is fitted (before: after the
+/// whole cross-validation of the first mapping, when its intervals came).
+#[test]
+fn cross_validate_refuses_a_bad_level_before_fitting() {
+    let dir = scratch("cv-level");
+    let ran = suspflow(&[
+        "cross-validate",
+        "--data",
+        "datasets/wide_plugs.ensemble.csv",
+        "--models",
+        "models",
+        "--mapping",
+        "mu",
+        "--out",
+        s(&dir.join("cv")),
+        "--level",
+        "1.5",
+    ]);
+    assert!(
+        refused_with(&ran, "strictly between 0 and 1, not 1.5")
+            && !stderr(&ran).contains("left out"),
+        "{}",
+        stderr(&ran)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

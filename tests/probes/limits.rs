@@ -76,6 +76,13 @@ fn bench_windows_go_through_the_range_and_cost_check() {
         "{}",
         stderr(&ran)
     );
+    // Too few for the Brownian box: named by the option (before: by `box.l_x` only).
+    let ran = suspflow(&["bench", "--brownian", "--n", "1", "--threads", "1"]);
+    assert!(
+        refused_with(&ran, "--n 1: the Brownian bench box") && stderr(&ran).contains("box.l_x"),
+        "{}",
+        stderr(&ran)
+    );
     // More particles than the machine holds: named as such, by the option.
     let ran = suspflow(&["bench", "--n", "100000000", "--threads", "1"]);
     assert!(

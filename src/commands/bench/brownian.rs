@@ -4,6 +4,7 @@
 //! each integrator's automatic step, and the kinetic temperatures over kT measured in the
 //! timed window (1 is equipartition).
 use super::Args;
+use anyhow::Context;
 use sim::studies::brownian_benchmark::{
     brownian_scene, checked_cost, measure_brownian, BrownianBenchSettings,
 };
@@ -17,7 +18,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut plan = Vec::new();
     for &n in &args.n {
         for &integrator in &args.integrator {
-            let scene = brownian_scene(n, integrator)?;
+            let scene = brownian_scene(n, integrator)
+                .with_context(|| format!("--n {n}: the Brownian bench box of {n} particles"))?;
             plan.push((checked_cost(&scene, &settings)?, scene));
         }
     }

@@ -1291,7 +1291,14 @@ fn cross_validate_compares_trees_backbone_and_both_on_held_out_families() {
     // extrapolates to the held-out amplitudes and must do worse.
     let mut curve_args = forced.clone();
     curve_args.extend(["--learning-curve", "1,2", "--draws", "2"]);
-    suspflow_ok(&curve_args);
+    let ran = suspflow_ok(&curve_args);
+    // Estimated before it runs: 4 held-out families x (2 draws at 1 and at 2, 1 at 3).
+    let stderr = String::from_utf8_lossy(&ran.stderr);
+    assert!(
+        stderr.contains("learning curve of 20 fits of at most")
+            && stderr.contains("learning curves estimated at most"),
+        "{stderr}"
+    );
     let record = read_json(&out.join("cv.json"));
     let points = record["learning_curves"][0]["points"].as_array().unwrap();
     let counts: Vec<u64> = points

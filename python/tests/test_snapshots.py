@@ -249,3 +249,52 @@ def test_gsd_is_a_fifth_of_the_text(frames):
     _, out = frames
     ratio = (out / "gsd" / "frames.gsd").stat().st_size / (out / "xyz" / "frames.xyz").stat().st_size
     assert ratio < 0.25, ratio
+
+
+def test_ovito_names_every_column_and_reads_its_values(frames):
+    """OVITO's own Python module (the `ovito` wheel, OVITO 3.17's readers) gives every column
+    of the LAMMPS dump a standard property (none left unnamed: before, `wx wy wz` were) and
+    reads every GSD chunk under a name; the values are the dump's, the GSD's to float32."""
+    ovito_io = pytest.importorskip(
+        "ovito.io", reason="OVITO's Python module (pip install ovito; wheels for x86-64 Linux, macOS, Windows) is not installed"
+    )
+    _, out = frames
+    dump = written_dump(out / "lammps" / "frames.lammpstrj")
+    standard = {
+        "Particle Identifier": ["id"], "Particle Type": ["type"], "Radius": ["radius"],
+        "Position": ["x", "y", "z"], "Velocity": ["vx", "vy", "vz"],
+        "Angular Velocity": ["omegax", "omegay", "omegaz"],
+    }
+    pipeline = ovito_io.import_file(str(out / "lammps" / "frames.lammpstrj"))
+    assert pipeline.source.num_frames == len(dump)
+    for k, (step, columns) in enumerate(dump):
+        data = pipeline.compute(k)
+        assert data.attributes["Timestep"] == step
+        # Every column read into a standard property (OVITO adds Velocity Magnitude itself).
+        assert set(data.particles.keys()) - {"Velocity Magnitude"} == set(standard)
+        assert sorted(c for cols in standard.values() for c in cols) == sorted(columns)
+        for name, cols in standard.items():
+            got = np.asarray(data.particles[name]).reshape(len(columns["id"]), -1)
+            want = np.column_stack([columns[c] for c in cols])
+            # As written, to the precision OVITO stores the property in (Radius: float32).
+            rtol = np.finfo(got.dtype).eps if got.dtype.kind == "f" else 0
+            np.testing.assert_allclose(got, want, rtol=rtol, atol=0, err_msg=name)
+    gsd_pipeline = ovito_io.import_file(str(out / "gsd" / "frames.gsd"))
+    assert gsd_pipeline.source.num_frames == len(dump)
+    for k, (step, columns) in enumerate(dump):
+        data = gsd_pipeline.compute(k)
+        assert data.attributes["Timestep"] == step
+        assert set(data.particles.keys()) - {"Velocity Magnitude"} == {
+            "Position", "Particle Type", "Mass", "Velocity", "Radius", "omega"}
+        # GSD holds the particles in the order of their identity (id - 1), HOOMD's box
+        # centred on the origin: OVITO's cell origin is minus half the cell.
+        order = np.argsort(columns["id"])
+        origin = np.asarray(data.cell[...])[:, 3]
+        for name, cols, shift in [("Position", "xyz", origin), ("Velocity", ["vx", "vy", "vz"], 0),
+                                  ("omega", ["omegax", "omegay", "omegaz"], 0)]:
+            want = np.column_stack([columns[c] for c in cols])[order]
+            np.testing.assert_allclose(np.asarray(data.particles[name]) - shift, want, rtol=1e-6, atol=2e-6, err_msg=name)
+        np.testing.assert_allclose(np.asarray(data.particles["Radius"]), columns["radius"][order], rtol=1e-7)
+        types = data.particles["Particle Type"]
+        names = [types.type_by_id(t).name for t in np.asarray(types)]
+        assert names == ["H" if t == 1 else "He" for t in columns["type"][order]]

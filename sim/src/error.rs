@@ -10,6 +10,9 @@ pub enum SimError {
     /// A Green-Kubo integral asked of a series too short for its lag and blocks.
     #[error("Green-Kubo integral: {0}")]
     GreenKubo(String),
+
+    #[error("benchmark: {0}")]
+    Benchmark(String),
     /// The flow profile expression does not parse, is not finite, or is not periodic.
     #[error("flow profile `{expr}`: {message}")]
     Profile { expr: String, message: String },

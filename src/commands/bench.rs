@@ -3,8 +3,12 @@
 //! radii 1 : 1.4, k_n = 1e4, lubrication on, from rest). The explicit scheme runs at the
 //! peer's dt = 5e-4, the implicit one at its automatic dt, both over the same physical
 //! window: 2000 warm-up + 10000 timed steps of 5e-4 by default.
+use anyhow::Context;
 use sim::input::integrator::Integrator;
-use sim::studies::benchmark::{measure, peer_scene, smallest_valid_n, BenchRecord, BenchSettings};
+use sim::input::run_cost::RunCost;
+use sim::studies::benchmark::{
+    checked_cost, measure, peer_scene, smallest_valid_n, BenchRecord, BenchSettings,
+};
 
 mod brownian;
 
@@ -81,20 +85,29 @@ fn parse_skin(text: &str) -> Result<f64, String> {
     }
 }
 
-/// The peer's scene for `--n n`, or an error about `--n` with the smallest `n` that works.
+/// The peer's scene for `--n n`, or an error about `--n`: the smallest `n` that works when
+/// the box is too narrow, else the scene's own reason.
 fn bench_scene(
     n: usize,
     settings: &BenchSettings,
     integrator: Integrator,
 ) -> anyhow::Result<sim::Scene> {
     let (lubrication, skin) = (settings.lubrication, settings.skin);
+    let refusal = match peer_scene(n, lubrication, skin, integrator) {
+        Ok(scene) => return Ok(scene),
+        Err(e) => e,
+    };
     match smallest_valid_n(n, lubrication, skin) {
-        Some(m) if m == n => Ok(peer_scene(n, lubrication, skin, integrator)?),
-        Some(m) => anyhow::bail!(
+        Some(m) if m > n => anyhow::bail!(
             "--n {n}: too few particles for the bench box (its width must reach twice the \
              interaction range plus skin); use --n {m} or more"
         ),
-        None => anyhow::bail!("no bench box is valid with --skin {skin:?}: the skin is too large"),
+        None if skin.is_some() && n <= 1 << 24 => anyhow::bail!(
+            "no bench box of up to 2^24 particles is valid with --skin {}: the skin is too \
+             large ({refusal})",
+            skin.unwrap_or_default()
+        ),
+        _ => Err(refusal).with_context(|| format!("--n {n}: the bench scene is not valid")),
     }
 }
 
@@ -109,22 +122,53 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         warmup: args.warmup,
         lammps_pps: args.lammps_pps,
     };
-    let mut records = Vec::new();
+    let mut plan = Vec::new();
     for &n in &args.n {
         for &integrator in &args.integrator {
-            for &threads in &args.threads {
-                let scene = bench_scene(n, &settings, integrator)?;
-                let r = crate::threads::with_threads(threads, || measure(&scene, &settings))??;
-                if !args.json {
-                    print_record(&r);
-                }
-                records.push(r);
+            let scene = bench_scene(n, &settings, integrator)?;
+            plan.push((checked_cost(&scene, &settings)?, scene));
+        }
+    }
+    announce(&plan, args.threads.len())?;
+    let mut records = Vec::new();
+    for (_, scene) in &plan {
+        for &threads in &args.threads {
+            let r = crate::threads::with_threads(threads, || measure(scene, &settings))??;
+            if !args.json {
+                print_record(&r);
             }
+            records.push(r);
         }
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&records)?);
     }
+    Ok(())
+}
+
+/// Before any measurement: refuses a scene that needs more memory than this machine has,
+/// shows the estimated wall time of them all (each scene's measurement once per thread
+/// count), and the warning of a day-long one (`RunCost::check_levers`).
+fn announce(
+    plan: &[((RunCost, Option<String>), sim::Scene)],
+    thread_counts: usize,
+) -> anyhow::Result<()> {
+    for (_, scene) in plan {
+        scene
+            .check_fits_here()
+            .with_context(|| format!("--n {}: too many particles here", scene.n_particles()))?;
+    }
+    for ((_, warning), _) in plan {
+        if let Some(w) = warning {
+            eprintln!("warning: {w}");
+        }
+    }
+    let seconds: f64 = plan.iter().map(|((c, _), _)| c.seconds()).sum();
+    eprintln!(
+        "{} measurement(s), estimated at most {} here",
+        plan.len() * thread_counts,
+        schema::work_cost::describe(seconds * thread_counts as f64)
+    );
     Ok(())
 }
 

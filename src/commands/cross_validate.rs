@@ -20,9 +20,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use surrogate::{
-    family_names, output_standard_errors, profile_names, Dataset, FamilyCv, IntervalCoverage,
-    IntervalStudy, LearningCurve, Mapping, MeanErrors, RowErrors, Samples, TableKind, TrainedModel,
-    Variant,
+    family_names, output_standard_errors, profile_names, CurveCost, Dataset, FamilyCv,
+    IntervalCoverage, IntervalStudy, LearningCurve, Mapping, MeanErrors, RowErrors, Samples,
+    TableKind, TrainedModel, Variant,
 };
 
 use crate::surrogate_text::{describe, percent, warn_skipped};
@@ -80,6 +80,8 @@ struct Record<'a> {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
+    // Checked first: the intervals come after every fold's fits.
+    surrogate::check_level(args.level)?;
     let dataset = Dataset::read_csv(&args.data)?;
     let mappings = Mapping::select(&args.mappings)?;
     let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow cross-validate`")?;
@@ -95,7 +97,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let table = TableKind::of(&dataset).ok().map(|kind| kind.describe());
     // A missing `profile` column is named here, before any model is read.
     let families = profile_names(&dataset)?;
-    let (mut results, mut curves, mut intervals) = (Vec::new(), Vec::new(), Vec::new());
+    let mut inputs = Vec::new();
     for mapping in mappings {
         let params = TrainedModel::load(&args.models, mapping.name)
             .with_context(|| {
@@ -109,13 +111,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .hyper_parameters
             .clone();
         let samples = Samples::from_dataset(&dataset, mapping)?;
-        warn_skipped(mapping, &samples);
-        let n = family_names(&samples)?.len();
+        inputs.push((mapping, params, samples));
+    }
+    if !args.learning_curve.is_empty() {
+        announce_learning_curves(&inputs, &args)?;
+    }
+    let (mut results, mut curves, mut intervals) = (Vec::new(), Vec::new(), Vec::new());
+    for (mapping, params, samples) in &inputs {
+        let (mapping, params, samples) = (*mapping, params, samples);
+        warn_skipped(mapping, samples);
+        let n = family_names(samples)?.len();
         eprintln!(
             "cross-validate {}: {} rows, {n} profile families, trees: {}",
             mapping.name,
             samples.n_rows(),
-            describe(&params)
+            describe(params)
         );
         if !args.learning_curve.is_empty() {
             eprintln!(
@@ -125,8 +135,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             curves.push(
                 LearningCurve::run(
                     mapping,
-                    &samples,
-                    &params,
+                    samples,
+                    params,
                     &args.learning_curve,
                     args.draws,
                     args.seed,
@@ -135,12 +145,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         }
         let finished = AtomicUsize::new(0);
-        let standard_errors = output_standard_errors(&dataset, &samples)?;
+        let standard_errors = output_standard_errors(&dataset, samples)?;
         let cv = FamilyCv::run(
             mapping,
-            &samples,
+            samples,
             standard_errors.as_ref(),
-            &params,
+            params,
             &|fold| {
                 let k = finished.fetch_add(1, Ordering::Relaxed) + 1;
                 eprintln!(
@@ -153,7 +163,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         results.push(cv);
         eprintln!("  {}: intervals on the same folds", mapping.name);
         intervals.push(
-            IntervalStudy::run(mapping, &samples, &params, args.level)
+            IntervalStudy::run(mapping, samples, params, args.level)
                 .with_context(|| format!("the intervals of `{}`", mapping.name))?
                 .coverage,
         );
@@ -228,6 +238,33 @@ fn markdown(record: &Record, models: &Path) -> String {
 
 /// The error against the number of families trained on, one column per output, and its
 /// change from the full count.
+/// Before any fit: each mapping's learning curve checked and timed by one fit
+/// (`CurveCost`), their estimated wall time together, and the warning of a day-long one
+/// (the rule of `schema::work_cost`, as for every option that sets work).
+fn announce_learning_curves(
+    inputs: &[(&Mapping, surrogate::HyperParameters, Samples)],
+    args: &Args,
+) -> anyhow::Result<()> {
+    let mut seconds = 0.0;
+    for (mapping, params, samples) in inputs {
+        let cost = CurveCost::of(mapping, samples, params, &args.learning_curve, args.draws)
+            .with_context(|| format!("the learning curve of `{}`", mapping.name))?;
+        let warning = cost
+            .check()
+            .with_context(|| format!("the learning curve of `{}`", mapping.name))?;
+        eprintln!("  {}: learning curve of {}", mapping.name, cost.describe());
+        if let Some(w) = warning {
+            eprintln!("warning: {w}");
+        }
+        seconds += cost.seconds();
+    }
+    eprintln!(
+        "learning curves estimated at most {} here (besides the cross-validation itself)",
+        schema::work_cost::describe(seconds)
+    );
+    Ok(())
+}
+
 fn learning_curve_section(md: &mut String, curve: &LearningCurve) {
     let trees = if curve.backbone {
         Variant::BackboneTrees

@@ -5,7 +5,6 @@
 //! (`green_kubo.json`), in units of the fluid viscosity as a part of `eta_r`.
 use crate::exit_status::Stop;
 use rheometry::green_kubo::{run_in_folder, WRITTEN};
-use sim::input::run_cost::RunCost;
 use sim::input::scene::Scene;
 use sim::run::green_kubo::{GreenKuboJob, GreenKuboRun};
 use sim::run::run_folder::{Ended, RunFolder, RunStatus};
@@ -83,7 +82,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let cost = job.cost();
     eprintln!(
         "estimated at most {} here ({:.2e} particle-steps)",
-        RunCost::describe(cost.seconds()),
+        schema::work_cost::describe(cost.seconds()),
         cost.equilibration_particle_steps + cost.averaging_particle_steps
     );
     if let Ok(Some(long)) = cost.check_levers("") {

@@ -1,7 +1,6 @@
 //! `suspflow simulate SCENE.toml --out DIR`: one scene to its steady-state profile.
 use crate::exit_status::Stop;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
-use sim::input::run_cost::RunCost;
 use sim::input::scene::Scene;
 use sim::output::frame_writer::FrameWriter;
 use sim::output::result_files::{write_results, RESULTS, WRITTEN};
@@ -253,7 +252,7 @@ fn print_check(scene: &Scene) -> anyhow::Result<()> {
     );
     println!(
         "run time: at most about {} here (at {:.1e} particle-steps/s)",
-        RunCost::describe(cost.seconds()),
+        schema::work_cost::describe(cost.seconds()),
         cost.rate
     );
     Ok(())

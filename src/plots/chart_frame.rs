@@ -1,6 +1,7 @@
 //! The frame shared by the line charts: an SVG canvas, the caption, axes with their units
 //! and short tick labels (on a logarithmic axis only as many as fit), and the legend box.
 use crate::plots::axis_label::with_units;
+use plotters::coord::combinators::{LogCoord, WithKeyPoints};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -116,6 +117,34 @@ pub fn log_ticks(lo: f64, hi: f64) -> impl Fn(f64) -> bool {
     move |v: f64| v > 0.0 && keep.contains(&mantissa(v))
 }
 
+/// A logarithmic axis over `[lo, hi]` with its ticks placed here, not by plotters, whose
+/// log axis has none below the first power of ten inside the range (none at all on
+/// `[0.31, 0.54]`, none below 0.01 on `[0.002, 0.02]`): a light tick at every `m x 10^k`
+/// inside (`m` = 1..9, or 1.0..9.9 in tenths when that leaves fewer than two), and a
+/// labelled one at those [`log_ticks`] labels (all of them when that leaves fewer than two).
+pub fn log_axis(lo: f64, hi: f64) -> WithKeyPoints<LogCoord<f64>> {
+    let inside = |mantissas: &mut dyn Iterator<Item = f64>| -> Vec<f64> {
+        let mantissas: Vec<f64> = mantissas.collect();
+        (lo.log10().floor() as i32..=hi.log10().ceil() as i32)
+            .flat_map(|k| mantissas.iter().map(move |m| m * 10f64.powi(k)))
+            .filter(|v| (lo..=hi).contains(v))
+            .collect()
+    };
+    let mut light = inside(&mut (1..=9).map(f64::from));
+    if light.len() < 2 {
+        light = inside(&mut (10..=99).map(|m| f64::from(m) / 10.0));
+    }
+    let labelled = log_ticks(lo, hi);
+    let mut bold: Vec<f64> = light.iter().copied().filter(|&v| labelled(v)).collect();
+    if bold.len() < 2 {
+        bold.clone_from(&light);
+    }
+    (lo..hi)
+        .log_scale()
+        .with_key_points(bold)
+        .with_light_points(light)
+}
+
 /// Draws the legend of the labelled series at `position`.
 pub fn legend<'a, 'b: 'a, X, Y>(
     chart: &mut Chart<'a, 'b, X, Y>,
@@ -183,5 +212,25 @@ mod tests {
         // Within a decade with a single 1-2-5 value inside, every tick (never a lone label).
         let narrow = super::log_ticks(0.055, 0.095);
         assert!(narrow(0.06) && narrow(0.07) && narrow(0.09));
+    }
+
+    #[test]
+    fn a_log_axis_has_two_labelled_ticks_at_least_wherever_it_lies() {
+        use plotters::coord::ranged1d::{BoldPoints, LightPoints, Ranged};
+        let labelled = |lo: f64, hi: f64| super::log_axis(lo, hi).key_points(BoldPoints(100));
+        // Below the first power of ten (plotters' own log axis: none; 0.01 and 0.02 only).
+        assert_eq!(labelled(0.31, 0.54).len(), 2, "{:?}", labelled(0.31, 0.54));
+        let partial = labelled(0.002, 0.021);
+        assert!(partial.len() >= 4 && partial[0] < 0.01, "{partial:?}");
+        // Within a tenth of a decade: ticks in tenths of the mantissa.
+        let tight = labelled(0.41, 0.46);
+        assert!(
+            tight.len() >= 4 && tight.iter().all(|v| (0.41..=0.46).contains(v)),
+            "{tight:?}"
+        );
+        // Over three decades the decades only, with the light ticks between them.
+        assert_eq!(labelled(1e-3, 0.5).len(), 3);
+        let light = super::log_axis(1e-3, 0.5).key_points(LightPoints::new(100, 1000));
+        assert_eq!(light.len(), 9 + 9 + 5);
     }
 }

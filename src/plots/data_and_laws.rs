@@ -1,7 +1,7 @@
 //! Measured points with error bars beside model curves, on a logarithmic y axis and a
 //! linear or logarithmic x axis, as SVG (the flow curves of homogeneous shear against the
 //! jamming law).
-use crate::plots::chart_frame::{canvas, chart, legend, log_bounds};
+use crate::plots::chart_frame::{canvas, chart, legend, log_axis, log_bounds};
 use crate::plots::figure_data::{self, Row};
 use crate::plots::loglog::Line;
 use crate::plots::profile_panels::COLOURS;
@@ -30,7 +30,7 @@ pub fn draw(
 ) -> anyhow::Result<()> {
     let ((x0, x1), y) = ranges(data, curves, log_x);
     let result = if log_x {
-        draw_inner(path, title, axes, (x0..x1).log_scale(), y, data, curves)
+        draw_inner(path, title, axes, log_axis(x0, x1), y, data, curves)
     } else {
         draw_inner(path, title, axes, x0..x1, y, data, curves)
     };
@@ -93,7 +93,7 @@ where
     X::CoordDescType: ValueFormatter<f64>,
 {
     canvas(path, |root| {
-        let mut chart = chart(root, title, axes, x_axis, (y0..y1).log_scale())?;
+        let mut chart = chart(root, title, axes, x_axis, log_axis(y0, y1))?;
         for (i, d) in data.iter().enumerate() {
             let colour = COLOURS[i % COLOURS.len()];
             let pts: Vec<(f64, f64, f64)> = d

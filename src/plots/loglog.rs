@@ -1,7 +1,7 @@
 //! Log-log line charts as SVG (error against run length, wall time or training time), with
 //! an optional guide line of a given slope (e.g. -1/2 for a statistical error falling as
 //! 1/sqrt(time)).
-use crate::plots::chart_frame::{canvas, chart, legend, log_bounds};
+use crate::plots::chart_frame::{canvas, chart, legend, log_axis, log_bounds};
 use crate::plots::figure_data::{self, Row};
 use crate::plots::profile_panels::COLOURS;
 use anyhow::Context;
@@ -66,13 +66,7 @@ fn draw_inner(
     let (x0, x1) = bounds(|p| p.0);
     let (y0, y1) = bounds(|p| p.1);
     canvas(path, |root| {
-        let mut chart = chart(
-            root,
-            title,
-            axes,
-            (x0..x1).log_scale(),
-            (y0..y1).log_scale(),
-        )?;
+        let mut chart = chart(root, title, axes, log_axis(x0, x1), log_axis(y0, y1))?;
         for (i, line) in lines.iter().enumerate() {
             let colour = COLOURS[i % COLOURS.len()];
             let pts: Vec<(f64, f64)> = usable(std::slice::from_ref(line)).collect();

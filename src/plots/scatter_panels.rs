@@ -2,8 +2,8 @@
 //! horizontal axis, showing several named point sets in their own colours (the same set
 //! keeps its colour in every panel), with one legend per panel.
 use crate::plots::axis_label::with_units;
-use crate::plots::chart_frame::formatter;
 use crate::plots::chart_frame::svg_file;
+use crate::plots::chart_frame::{formatter, log_axis};
 use crate::plots::figure_data::{self, Row};
 use crate::plots::profile_panels::COLOURS;
 use anyhow::Context;
@@ -94,14 +94,10 @@ fn draw(path: &Path, title: &str, panels: &[ScatterPanel]) -> anyhow::Result<()>
                 .y_label_area_size(64);
             // The two axis kinds are different types: one branch each.
             if panel.log_y {
-                let chart =
-                    builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+                let chart = builder.build_cartesian_2d(log_axis(x0, x1), log_axis(y0, y1))?;
                 fill(chart, panel)?;
             } else {
-                fill(
-                    builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?,
-                    panel,
-                )?;
+                fill(builder.build_cartesian_2d(log_axis(x0, x1), y0..y1)?, panel)?;
             }
         }
         Ok(())

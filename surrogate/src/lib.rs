@@ -74,7 +74,7 @@ pub use validation::family_cv::{
 pub use validation::family_folds::{
     family_names, leave_one_family_out, tuning_folds, FamilyFold, LeftOut, MIN_TUNING_FAMILIES,
 };
-pub use validation::family_learning_curve::{LearningCurve, LearningPoint};
+pub use validation::family_learning_curve::{CurveCost, LearningCurve, LearningPoint};
 pub use validation::interval_calibration::{
     fraction, interval_score, FoldCoverage, IntervalCoverage, IntervalMethod, IntervalStudy,
     MethodCoverage, OutputCoverage,

@@ -1,9 +1,10 @@
 //! What a run will cost before it starts: its time steps, particle-steps and wall time
 //! on this machine, from the scene's automatic time step; runs that cannot finish are
-//! refused and long ones announced.
+//! refused and long ones announced, by the rule of [`schema::work_cost`].
 use crate::error::SimError;
 use crate::input::scene_file::RunSection;
 use crate::input::scene_limits::show;
+use schema::work_cost;
 
 /// Particle-steps per second of a run here (2 cores): the validation scenes of the full
 /// report ran at 9.0-9.3e5 (README, Report), rounded up so that estimates err short.
@@ -14,22 +15,15 @@ pub const PARTICLE_STEPS_PER_S: f64 = 1e6;
 /// 3e5), dense frictional suspensions about a third of that (docs/physics.md section 11).
 pub const BROWNIAN_PARTICLE_STEPS_PER_S: f64 = 3e5;
 
-/// Estimated wall time above which a scene is announced with a warning (one day).
-pub const WARN_SECONDS: f64 = 86_400.0;
-
-/// Estimated wall time above which a scene is refused (one year): no run of that length
-/// finishes, and its step counters approach the range where a strain increment per step
-/// is lost in rounding.
-pub const REFUSE_SECONDS: f64 = 365.0 * 86_400.0;
-
 /// The cost of a run to its strain budget plus its averaging.
 #[derive(Clone, Copy, Debug)]
 pub struct RunCost {
     /// Time steps per unit strain (strain = gdot_max x time).
     pub steps_per_strain: f64,
-    /// Most particle-steps of the equilibration (to `run.max_strain`).
+    /// Most particle-steps of the equilibration (to `run.max_strain`) or warm-up.
     pub equilibration_particle_steps: f64,
-    /// Particle-steps of the averaging (`run.snapshots` x `run.sample_strain`).
+    /// Particle-steps of the averaging (`run.snapshots` x `run.sample_strain`) or of the
+    /// measured window.
     pub averaging_particle_steps: f64,
     /// Particle-steps per second here ([`PARTICLE_STEPS_PER_S`] or, for a Brownian scene,
     /// [`BROWNIAN_PARTICLE_STEPS_PER_S`]).
@@ -45,11 +39,31 @@ impl RunCost {
         r: &RunSection,
         brownian: bool,
     ) -> RunCost {
+        RunCost::of_steps(
+            steps_per_strain,
+            n_particles,
+            [
+                steps_per_strain * r.max_strain,
+                steps_per_strain * r.sample_strain * r.snapshots as f64,
+            ],
+            brownian,
+        )
+    }
+
+    /// The cost of `[warm-up, window]` time steps (as real numbers: a length beyond any
+    /// counter is refused, not wrapped) of `n_particles` at `steps_per_clock` steps per
+    /// unit of the run's clock (strain or tau_B), with Brownian forces or not.
+    pub fn of_steps(
+        steps_per_clock: f64,
+        n_particles: usize,
+        [warmup, window]: [f64; 2],
+        brownian: bool,
+    ) -> RunCost {
         let n = n_particles as f64;
         RunCost {
-            steps_per_strain,
-            equilibration_particle_steps: steps_per_strain * r.max_strain * n,
-            averaging_particle_steps: steps_per_strain * r.sample_strain * r.snapshots as f64 * n,
+            steps_per_strain: steps_per_clock,
+            equilibration_particle_steps: warmup * n,
+            averaging_particle_steps: window * n,
             rate: if brownian {
                 BROWNIAN_PARTICLE_STEPS_PER_S
             } else {
@@ -63,21 +77,8 @@ impl RunCost {
         (self.equilibration_particle_steps + self.averaging_particle_steps) / self.rate
     }
 
-    /// A duration for people: seconds, hours, days or years.
-    pub fn describe(seconds: f64) -> String {
-        if seconds < 3600.0 {
-            format!("{seconds:.0} s")
-        } else if seconds < 86_400.0 {
-            format!("{:.1} h", seconds / 3600.0)
-        } else if seconds < 365.0 * 86_400.0 {
-            format!("{:.1} days", seconds / 86_400.0)
-        } else {
-            format!("{} years", show((seconds / (365.0 * 86_400.0)).round()))
-        }
-    }
-
-    /// Refuses a run longer than [`REFUSE_SECONDS`] (or of no finite length) and returns
-    /// a warning for one longer than [`WARN_SECONDS`].
+    /// Refuses a run longer than [`work_cost::REFUSE_SECONDS`] (or of no finite length) and
+    /// returns a warning for one longer than [`work_cost::WARN_SECONDS`].
     pub fn check(&self) -> Result<Option<String>, SimError> {
         self.check_levers(
             "the time step (forces.k_n, forces.xi_min, run.dt_factor, run.dt, the radii), the \
@@ -89,19 +90,14 @@ impl RunCost {
     /// [`RunCost::check`] of any run: the refusal (its message, ending with `levers`, what
     /// sets the run's length) or the warning.
     pub fn check_levers(&self, levers: &str) -> Result<Option<String>, String> {
-        let s = self.seconds();
         let what = format!(
-            "{:.2e} steps per unit strain (or tau_B), at most {:.2e} particle-steps, about {} \
-             here at {} particle-steps/s",
+            "{:.2e} steps per unit strain (or tau_B), at most {:.2e} particle-steps at {} \
+             particle-steps/s",
             self.steps_per_strain,
             self.equilibration_particle_steps + self.averaging_particle_steps,
-            Self::describe(s),
             show(self.rate)
         );
-        if !(..=REFUSE_SECONDS).contains(&s) {
-            return Err(format!("the run cannot finish: {what}; {levers}"));
-        }
-        Ok((s > WARN_SECONDS).then(|| format!("long run: {what}")))
+        work_cost::check("run", self.seconds(), &what, levers)
     }
 }
 
@@ -121,9 +117,12 @@ mod tests {
     #[test]
     fn a_day_warns_a_year_is_refused_and_no_length_is_refused() {
         assert_eq!(lasting(3600.0).check().unwrap(), None);
-        let warning = lasting(2.0 * WARN_SECONDS).check().unwrap().unwrap();
+        let warning = lasting(2.0 * work_cost::WARN_SECONDS)
+            .check()
+            .unwrap()
+            .unwrap();
         assert!(warning.contains("about 2.0 days here"), "{warning}");
-        let refusal = lasting(2.0 * REFUSE_SECONDS)
+        let refusal = lasting(2.0 * work_cost::REFUSE_SECONDS)
             .check()
             .unwrap_err()
             .to_string();

@@ -1,11 +1,13 @@
 //! The frames file of a run: a particle frame in a [`SnapshotFormat`] every `every` samples,
 //! appended to the file of the run a resumed run continues. A resumed run first cuts the
-//! file back to the frames of the samples before its own first one: frames that a run
-//! killed after its last checkpoint wrote are written again by the resumed run, and must
-//! not be there twice (time running backwards). A failed write is kept and reported at the
-//! end, so that the run itself goes on.
+//! file back to the frames of the samples before its own first one (in a text format by
+//! the line count of a frame, in GSD by its frame index): frames that a run killed after
+//! its last checkpoint wrote are written again by the resumed run, and must not be there
+//! twice (time running backwards). A failed write is kept and reported at the end, so that
+//! the run itself goes on.
 use crate::error::SimError;
 use crate::integrate::simulation::Simulation;
+use crate::output::gsd;
 use crate::output::snapshot_format::SnapshotFormat;
 use std::io::{BufRead, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
@@ -24,9 +26,7 @@ pub struct FrameWriter {
 impl FrameWriter {
     /// Opens `dir/<format's file name>`: truncated, or continued when `append` (a resumed run).
     /// Opened for reading and writing without `O_APPEND`: a GSD frame also updates the
-    /// file's index and header in place. Only the text formats are cut back on resume (their
-    /// frames are lines); a GSD file keeps the frames a killed run wrote after its last
-    /// checkpoint (GSD readers index frames by step, so such a frame shows twice).
+    /// file's index and header in place.
     pub fn open(
         dir: &Path,
         format: SnapshotFormat,
@@ -44,12 +44,15 @@ impl FrameWriter {
                 path: path.display().to_string(),
                 message: e.to_string(),
             })?;
+        if append && format == SnapshotFormat::Gsd {
+            gsd::check_continuable(&file)?;
+        }
         Ok(Self {
             format,
             every: every.max(1),
             path,
             file,
-            to_trim: append && format != SnapshotFormat::Gsd,
+            to_trim: append,
             error: None,
         })
     }
@@ -61,12 +64,15 @@ impl FrameWriter {
             return;
         }
         if std::mem::take(&mut self.to_trim) {
-            // The frames of samples 1 ..= samples - 1, each as many lines as this one's.
+            // The frames of samples 1 ..= samples - 1: by the GSD index, or in a text
+            // format each as many lines as this one's.
             let kept = samples.saturating_sub(1) / self.every;
-            let trimmed = self
-                .format
-                .frame(sim)
-                .and_then(|frame| self.keep_lines(kept * frame.matches('\n').count() as u64));
+            let trimmed = match self.format {
+                SnapshotFormat::Gsd => gsd::keep_frames(&self.file, kept),
+                text => text
+                    .frame(sim)
+                    .and_then(|frame| self.keep_lines(kept * frame.matches('\n').count() as u64)),
+            };
             if let Err(e) = trimmed {
                 self.error = Some(e);
                 return;

@@ -81,10 +81,120 @@ fn error(e: impl std::fmt::Display) -> SimError {
     }
 }
 
-/// Where the index lies and how many entries it has room for.
+/// The index of an existing GSD file: where it lies, its room, its bytes and the entries
+/// in use (the first `used`; they end at the first with location 0).
 struct Index {
     location: u64,
     allocated: u64,
+    entries: Vec<u8>,
+    used: usize,
+}
+
+impl Index {
+    fn read(file: &File) -> Result<Index, SimError> {
+        let len = file.metadata().map_err(error)?.len();
+        let mut header = [0u8; HEADER_BYTES as usize];
+        file.read_exact_at(&mut header, 0).map_err(|_| {
+            error(format!(
+                "not a GSD file: {len} bytes, shorter than a GSD header"
+            ))
+        })?;
+        let word =
+            |k: usize| u64::from_le_bytes(header[8 * k..8 * k + 8].try_into().expect("8 bytes"));
+        if word(0) != MAGIC {
+            return Err(error("not a GSD file (no GSD header)"));
+        }
+        let (location, allocated) = (word(1), word(2));
+        if location.saturating_add(allocated.saturating_mul(ENTRY_BYTES as u64)) > len {
+            return Err(error(format!(
+                "a damaged GSD file: its index ({allocated} entries at byte {location}) \
+                 lies beyond its {len} bytes"
+            )));
+        }
+        let mut entries = vec![0u8; allocated as usize * ENTRY_BYTES];
+        file.read_exact_at(&mut entries, location).map_err(error)?;
+        let mut index = Index {
+            location,
+            allocated,
+            entries,
+            used: 0,
+        };
+        index.used = (0..allocated as usize)
+            .find(|&i| index.data_location(i) == 0)
+            .unwrap_or(allocated as usize);
+        Ok(index)
+    }
+
+    /// The frame of entry `i`.
+    fn frame(&self, i: usize) -> u64 {
+        u64::from_le_bytes(self.entries[i * ENTRY_BYTES..][..8].try_into().expect("8"))
+    }
+
+    /// Where the data of entry `i` lie (0: an unused entry).
+    fn data_location(&self, i: usize) -> u64 {
+        i64::from_le_bytes(
+            self.entries[i * ENTRY_BYTES + 16..][..8]
+                .try_into()
+                .expect("8"),
+        ) as u64
+    }
+
+    /// The number of frames: the last entry's frame plus one.
+    fn frames(&self) -> u64 {
+        match self.used {
+            0 => 0,
+            n => self.frame(n - 1) + 1,
+        }
+    }
+}
+
+/// Checks, before a resumed run appends to it, that `file` is empty or a GSD file whose
+/// index can be read.
+pub fn check_continuable(file: &File) -> Result<(), SimError> {
+    if file.metadata().map_err(error)?.len() == 0 {
+        return Ok(());
+    }
+    Index::read(file).map(|_| ()).map_err(|e| match e {
+        SimError::Output { path, message } => SimError::Output {
+            path,
+            message: format!(
+                "{message}: the resumed run cannot continue its frames; move it away to \
+                 write them afresh"
+            ),
+        },
+        other => other,
+    })
+}
+
+/// Keeps the first `frames` frames of the GSD file `file` (all of them when it has fewer):
+/// the index entries of the later frames are cleared and their data cut off, so that the
+/// next frame appended is frame number `frames`. The index moves to the cut when it lay
+/// beyond it (it is rewritten at the end of the file when it grows).
+pub fn keep_frames(file: &File, frames: u64) -> Result<(), SimError> {
+    if file.metadata().map_err(error)?.len() == 0 {
+        return Ok(());
+    }
+    let index = Index::read(file)?;
+    let Some(first_cut) = (0..index.used).find(|&i| index.frame(i) >= frames) else {
+        return Ok(());
+    };
+    if first_cut == 0 {
+        // No frame is kept: an empty file, created again by the next frame.
+        return file.set_len(0).map_err(error);
+    }
+    // Frames are written in order, their chunks in the order of their entries.
+    let cut = index.data_location(first_cut);
+    let mut block = index.entries[..first_cut * ENTRY_BYTES].to_vec();
+    block.resize(index.entries.len(), 0);
+    if index.location < cut {
+        file.write_all_at(&block, index.location).map_err(error)?;
+        file.set_len(cut).map_err(error)?;
+    } else {
+        file.write_all_at(&block, cut).map_err(error)?;
+        file.write_all_at(&cut.to_le_bytes(), 8).map_err(error)?;
+        file.set_len(cut + block.len() as u64).map_err(error)?;
+    }
+    Ok(())
 }
 
 /// Appends a frame of `sim` to the GSD file `file` (created when empty).
@@ -93,29 +203,8 @@ pub fn append_frame(file: &File, sim: &Simulation) -> Result<(), SimError> {
     if end == 0 {
         end = create(file)?;
     }
-    let mut header = [0u8; HEADER_BYTES as usize];
-    file.read_exact_at(&mut header, 0).map_err(error)?;
-    let word = |k: usize| u64::from_le_bytes(header[8 * k..8 * k + 8].try_into().expect("8 bytes"));
-    if word(0) != MAGIC {
-        return Err(error("not a GSD file"));
-    }
-    let index = Index {
-        location: word(1),
-        allocated: word(2),
-    };
-    let mut entries = vec![0u8; index.allocated as usize * ENTRY_BYTES];
-    file.read_exact_at(&mut entries, index.location)
-        .map_err(error)?;
-    // Entries in use end at the first with location 0; the frame count follows the last.
-    let location_of =
-        |i: usize| i64::from_le_bytes(entries[i * ENTRY_BYTES + 16..][..8].try_into().expect("8"));
-    let used = (0..index.allocated as usize)
-        .find(|&i| location_of(i) == 0)
-        .unwrap_or(index.allocated as usize);
-    let frame = match used {
-        0 => 0,
-        n => u64::from_le_bytes(entries[(n - 1) * ENTRY_BYTES..][..8].try_into().expect("8")) + 1,
-    };
+    let index = Index::read(file)?;
+    let (used, frame) = (index.used, index.frames());
     // The data, then the entries that point at them.
     let chunks = frame_chunks(sim, frame == 0)?;
     let mut data = Vec::new();
@@ -138,7 +227,7 @@ pub fn append_frame(file: &File, sim: &Simulation) -> Result<(), SimError> {
     } else {
         // A larger index at the end of the file, then the header that points at it.
         let allocated = needed.max(2 * index.allocated);
-        let mut block = entries[..used * ENTRY_BYTES].to_vec();
+        let mut block = index.entries[..used * ENTRY_BYTES].to_vec();
         block.extend_from_slice(&new_entries);
         block.resize(allocated as usize * ENTRY_BYTES, 0);
         file.write_all_at(&block, end).map_err(error)?;

@@ -3,7 +3,7 @@
 //! box ([`shell_shear_stress`]) sampled every few steps over a span, and its Green-Kubo
 //! integral ([`GreenKubo`]). A finished run extends to a longer span.
 use crate::error::SimError;
-use crate::input::run_cost::{RunCost, BROWNIAN_PARTICLE_STEPS_PER_S};
+use crate::input::run_cost::RunCost;
 use crate::input::scene::{Scene, SceneFile};
 use crate::input::thermal_scales::ThermalScales;
 use crate::integrate::simulation::{Simulation, SystemState};
@@ -74,13 +74,16 @@ impl<'a> GreenKuboJob<'a> {
     /// Brownian scene here. [`Job::check`] refuses a run that cannot finish; the warning of
     /// a long one is the caller's to show.
     pub fn cost(&self) -> RunCost {
-        let per_tau_b = self.steps_per_tau_b() * self.scene.n_particles() as f64;
-        RunCost {
-            steps_per_strain: self.steps_per_tau_b(),
-            equilibration_particle_steps: self.run.warmup_tau_b * per_tau_b,
-            averaging_particle_steps: self.run.span_tau_b * per_tau_b,
-            rate: BROWNIAN_PARTICLE_STEPS_PER_S,
-        }
+        let per_tau_b = self.steps_per_tau_b();
+        RunCost::of_steps(
+            per_tau_b,
+            self.scene.n_particles(),
+            [
+                self.run.warmup_tau_b * per_tau_b,
+                self.run.span_tau_b * per_tau_b,
+            ],
+            true,
+        )
     }
 
     fn every(&self) -> u64 {

@@ -5,6 +5,7 @@
 use crate::error::SimError;
 use crate::input::initial_state::initial_particles;
 use crate::input::integrator::Integrator;
+use crate::input::run_cost::RunCost;
 use crate::input::scene::{Scene, SceneFile};
 use crate::integrate::pass_times::PassTimes;
 use crate::integrate::simulation::Simulation;
@@ -71,6 +72,11 @@ pub fn peer_scene(
         SceneFile::with_defaults(&format!("bench{n}"), [l, l_y, l], phi, "0.1*sin(2*pi*y/L)");
     f.seed = 12345;
     f.forces.lubrication = lubrication;
+    // The bench steps its own windows ([`cost`]): the scene's run to a steady state is
+    // the shortest valid, so that its cost (checked by the scene) does not stand for the
+    // bench's.
+    f.run.max_strain = f.run.sample_strain;
+    f.run.snapshots = f.run.blocks;
     f.run.integrator = integrator;
     if integrator == Integrator::Explicit {
         f.run.dt = Some(PEER_DT);
@@ -105,15 +111,48 @@ pub fn smallest_valid_n(n: usize, lubrication: bool, skin: Option<f64>) -> Optio
     Some(if valid(n) { n } else { hi })
 }
 
+/// `[warm-up, timed window]` of `settings` in `scene`'s own steps (at least one timed).
+fn own_steps(scene: &Scene, settings: &BenchSettings) -> [f64; 2] {
+    let in_own_steps = |peer_steps: u64| (peer_steps as f64 * PEER_DT / scene.timestep.dt).round();
+    [
+        in_own_steps(settings.warmup),
+        in_own_steps(settings.steps).max(1.0),
+    ]
+}
+
+/// What `settings` cost on `scene`: the warm-up's and the window's particle-steps at the
+/// rate of a run here.
+pub fn cost(scene: &Scene, settings: &BenchSettings) -> RunCost {
+    RunCost::of_steps(
+        scene.steps_per_strain(),
+        scene.n_particles(),
+        own_steps(scene, settings),
+        false,
+    )
+}
+
+/// [`cost`], or the refusal of a measurement that cannot finish (the rule of
+/// [`schema::work_cost`]), with the warning of a day-long one.
+pub fn checked_cost(
+    scene: &Scene,
+    settings: &BenchSettings,
+) -> Result<(RunCost, Option<String>), SimError> {
+    let cost = cost(scene, settings);
+    let warning = cost
+        .check_levers("shorten the timed window or the warm-up, or lower the particle number")
+        .map_err(SimError::Benchmark)?;
+    Ok((cost, warning))
+}
+
 /// Times `settings.steps` steps of `scene` (a [`peer_scene`]) after the warm-up, on the
-/// current thread pool.
+/// current thread pool; refuses windows that cannot finish ([`checked_cost`]) before it starts.
 pub fn measure(scene: &Scene, settings: &BenchSettings) -> Result<BenchRecord, SimError> {
+    checked_cost(scene, settings)?;
+    let [warmup, steps] = own_steps(scene, settings).map(|s| s as u64);
     let mut sim = Simulation::new(scene, initial_particles(scene)?)?;
     sim.time_solve_passes();
     let dt = sim.timestep.dt;
-    let in_own_steps = |peer_steps: u64| (peer_steps as f64 * PEER_DT / dt).round() as u64;
-    let steps = in_own_steps(settings.steps).max(1);
-    sim.advance(in_own_steps(settings.warmup))?;
+    sim.advance(warmup)?;
     let before = sim.solver_totals();
     let timers_before = sim.timers;
     let passes_before = sim.solve_pass_times();
@@ -158,5 +197,22 @@ mod tests {
         assert!(peer_scene(n, true, None, Integrator::Explicit).is_ok());
         assert!(peer_scene(n - 1, true, None, Integrator::Explicit).is_err());
         assert_eq!(smallest_valid_n(n + 5, true, None), Some(n + 5));
+    }
+
+    #[test]
+    fn a_large_bench_is_limited_by_its_windows_not_by_the_scenes_run() {
+        // 2e7 particles: the scene's default run would take years, the bench's window not.
+        let scene = peer_scene(20_000_000, true, None, Integrator::Explicit).unwrap();
+        let settings = |steps| BenchSettings {
+            lubrication: true,
+            skin: None,
+            steps,
+            warmup: 0,
+            lammps_pps: None,
+        };
+        let (cost, warning) = checked_cost(&scene, &settings(1)).unwrap();
+        assert!(warning.is_none() && cost.seconds() < 100.0, "{cost:?}");
+        let e = checked_cost(&scene, &settings(u64::MAX)).unwrap_err();
+        assert!(e.to_string().contains("cannot finish"), "{e}");
     }
 }

@@ -5,6 +5,7 @@
 use crate::error::SimError;
 use crate::input::initial_state::initial_particles;
 use crate::input::integrator::Integrator;
+use crate::input::run_cost::RunCost;
 use crate::input::scene::{Scene, SceneFile};
 use crate::integrate::simulation::Simulation;
 use crate::integrate::stage_timers::StageTimers;
@@ -65,21 +66,53 @@ pub fn brownian_scene(n: usize, integrator: Integrator) -> Result<Scene, SimErro
     f.particles.rho = Some(RHO);
     f.fluid.eta = ETA;
     f.fluid.kt = KT;
+    // The bench steps its own windows ([`cost`]): the scene's run to a steady state is
+    // the shortest valid, so that its cost (checked by the scene) does not stand for the
+    // bench's.
+    f.run.max_strain = f.run.sample_strain;
+    f.run.snapshots = f.run.blocks;
     f.run.integrator = integrator;
     f.run.bin_width = l / 4.0;
     Scene::from_file(f, false)
 }
 
+/// What `settings` cost on `scene`: the warm-up's and the window's particle-steps at the
+/// rate of a Brownian scene here.
+pub fn cost(scene: &Scene, settings: &BrownianBenchSettings) -> RunCost {
+    // Without flow the scene's clock counts Brownian times.
+    let per_tau_b = scene.steps_per_strain();
+    RunCost::of_steps(
+        per_tau_b,
+        scene.n_particles(),
+        [settings.warmup_tau_b, settings.window_tau_b].map(|tau| (tau * per_tau_b).max(1.0)),
+        true,
+    )
+}
+
+/// [`cost`], or the refusal of a measurement that cannot finish (the rule of
+/// [`schema::work_cost`]), with the warning of a day-long one.
+pub fn checked_cost(
+    scene: &Scene,
+    settings: &BrownianBenchSettings,
+) -> Result<(RunCost, Option<String>), SimError> {
+    let cost = cost(scene, settings);
+    let warning = cost
+        .check_levers("shorten the warm-up or the window (in tau_B), or lower the particle number")
+        .map_err(SimError::Benchmark)?;
+    Ok((cost, warning))
+}
+
 /// Times the window of `settings` on `scene` (a [`brownian_scene`]) after the warm-up, on
-/// the current thread pool.
+/// the current thread pool; refuses windows that cannot finish ([`checked_cost`]) before it starts.
 pub fn measure_brownian(
     scene: &Scene,
     settings: &BrownianBenchSettings,
 ) -> Result<BrownianBenchRecord, SimError> {
+    checked_cost(scene, settings)?;
     let tau_b = scene.thermal.map_or(f64::NAN, |t| t.tau_b);
     let mut sim = Simulation::new(scene, initial_particles(scene)?)?;
     let dt = sim.timestep.dt;
-    let steps_of = |tau: f64| ((tau * tau_b / dt).round() as u64).max(1);
+    let steps_of = |tau: f64| ((tau * scene.steps_per_strain()).round() as u64).max(1);
     sim.advance(steps_of(settings.warmup_tau_b))?;
     let steps = steps_of(settings.window_tau_b);
     let before = sim.solver_totals();

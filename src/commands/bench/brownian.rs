@@ -4,35 +4,43 @@
 //! each integrator's automatic step, and the kinetic temperatures over kT measured in the
 //! timed window (1 is equipartition).
 use super::Args;
-use sim::studies::brownian_benchmark::{brownian_scene, measure_brownian, BrownianBenchSettings};
+use anyhow::Context;
+use sim::studies::brownian_benchmark::{
+    brownian_scene, checked_cost, measure_brownian, BrownianBenchSettings,
+};
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
-    let mut records = Vec::new();
+    let settings = BrownianBenchSettings {
+        warmup_tau_b: args.warmup_tau_b,
+        window_tau_b: args.window_tau_b,
+        lammps_s_per_tau_b: args.lammps_s_per_tau_b,
+    };
+    let mut plan = Vec::new();
     for &n in &args.n {
         for &integrator in &args.integrator {
-            for &threads in &args.threads {
-                let scene = brownian_scene(n, integrator)?;
-                let settings = BrownianBenchSettings {
-                    warmup_tau_b: args.warmup_tau_b,
-                    window_tau_b: args.window_tau_b,
-                    lammps_s_per_tau_b: args.lammps_s_per_tau_b,
-                };
-                let r =
-                    crate::threads::with_threads(threads, || measure_brownian(&scene, &settings))??;
-                if !args.json {
-                    let ratio = r.lammps_ratio.map_or(String::new(), |x| {
-                        format!(" lammps_time_per_tau_b/ours={x:.1}")
-                    });
-                    let cg = r
-                        .solver_iterations
-                        .map_or(String::new(), |i| format!(" cg_iterations={i:.1}"));
-                    println!(
-                        "brownian n={} {} threads={} dt={:.3e} ({}) steps={} loop_s={:.2} s_per_tau_b={:.3} T_trans/kT={:.4} T_rot/kT={:.4}{cg}{ratio}",
-                        r.n, r.integrator, r.threads, r.dt, r.dt_limit, r.steps, r.loop_s, r.s_per_tau_b, r.t_trans_over_kt, r.t_rot_over_kt
-                    );
-                }
-                records.push(r);
+            let scene = brownian_scene(n, integrator)
+                .with_context(|| format!("--n {n}: the Brownian bench box of {n} particles"))?;
+            plan.push((checked_cost(&scene, &settings)?, scene));
+        }
+    }
+    super::announce(&plan, args.threads.len())?;
+    let mut records = Vec::new();
+    for (_, scene) in &plan {
+        for &threads in &args.threads {
+            let r = crate::threads::with_threads(threads, || measure_brownian(scene, &settings))??;
+            if !args.json {
+                let ratio = r.lammps_ratio.map_or(String::new(), |x| {
+                    format!(" lammps_time_per_tau_b/ours={x:.1}")
+                });
+                let cg = r
+                    .solver_iterations
+                    .map_or(String::new(), |i| format!(" cg_iterations={i:.1}"));
+                println!(
+                    "brownian n={} {} threads={} dt={:.3e} ({}) steps={} loop_s={:.2} s_per_tau_b={:.3} T_trans/kT={:.4} T_rot/kT={:.4}{cg}{ratio}",
+                    r.n, r.integrator, r.threads, r.dt, r.dt_limit, r.steps, r.loop_s, r.s_per_tau_b, r.t_trans_over_kt, r.t_rot_over_kt
+                );
             }
+            records.push(r);
         }
     }
     if args.json {

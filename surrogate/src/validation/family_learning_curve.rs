@@ -78,18 +78,10 @@ impl LearningCurve {
         draws: usize,
         seed: u64,
     ) -> Result<Self> {
-        let folds = leave_one_family_out(samples)?;
+        let (folds, counts) = plan(samples, families, draws)?;
         let full = folds.len() - 1;
-        let counts = counts_with_full(families, full)?;
-        if !(1..=MAX_DRAWS).contains(&draws) {
-            return Err(SurrogateError::InvalidArgument(format!(
-                "a learning curve takes 1 to {MAX_DRAWS} draws of training families per \
-                 count, not {draws}"
-            )));
-        }
         let all_families = samples.families.as_deref().unwrap_or_default();
-        // All the other families can be chosen one way only.
-        let draws_at = |n: usize| if n == full { 1 } else { draws };
+        let draws_at = |n: usize| draws_at(n, full, draws);
         // Per held-out family, per count: the error of each output, averaged over the draws.
         let per_fold = folds
             .par_iter()
@@ -175,6 +167,101 @@ impl LearningCurve {
             seed,
             points,
         })
+    }
+}
+
+/// What a learning curve costs: the models it fits and their estimated wall time here.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CurveCost {
+    pub fits: usize,
+    /// Seconds of one fit on the most rows any fit has (all the other families of a fold),
+    /// as timed here.
+    pub seconds_per_fit: f64,
+    /// Fits running at once (rayon's threads, at most one per held-out family).
+    pub parallel: usize,
+}
+
+impl CurveCost {
+    /// The curve of [`LearningCurve::run`] with the same arguments, checked as it checks
+    /// them, and timed by one fit on the most rows any of its fits has: an estimate at most.
+    pub fn of(
+        mapping: &Mapping,
+        samples: &Samples,
+        params: &HyperParameters,
+        families: &[usize],
+        draws: usize,
+    ) -> Result<Self> {
+        let (folds, counts) = plan(samples, families, draws)?;
+        let full = folds.len() - 1;
+        let fits = folds.len()
+            * counts
+                .iter()
+                .map(|&n| draws_at(n, full, draws))
+                .sum::<usize>();
+        let largest = folds
+            .iter()
+            .max_by_key(|f| f.fold.train.len())
+            .expect("a family cross-validation has at least two folds");
+        let started = std::time::Instant::now();
+        TrainedModel::fit(mapping, &samples.subset(&largest.fold.train)?, params)?;
+        Ok(CurveCost {
+            fits,
+            seconds_per_fit: started.elapsed().as_secs_f64(),
+            parallel: rayon::current_num_threads().clamp(1, folds.len()),
+        })
+    }
+
+    /// Estimated wall seconds at most.
+    pub fn seconds(&self) -> f64 {
+        self.fits as f64 * self.seconds_per_fit / self.parallel as f64
+    }
+
+    /// The rule of [`schema::work_cost`]: an error for a curve that cannot finish, the
+    /// warning of a day-long one.
+    pub fn check(&self) -> Result<Option<String>> {
+        schema::work_cost::check(
+            "learning curve",
+            self.seconds(),
+            &self.describe(),
+            "take fewer draws per count, or fewer counts of families",
+        )
+        .map_err(SurrogateError::InvalidArgument)
+    }
+
+    /// `N fits of at most S s each, P at a time`.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} fits of at most {:.2} s each, {} at a time",
+            self.fits, self.seconds_per_fit, self.parallel
+        )
+    }
+}
+
+/// The folds and the counts (with the full one) of a curve, or the error for a count or a
+/// number of draws outside their ranges.
+fn plan(
+    samples: &Samples,
+    families: &[usize],
+    draws: usize,
+) -> Result<(Vec<crate::validation::family_folds::FamilyFold>, Vec<usize>)> {
+    let folds = leave_one_family_out(samples)?;
+    let counts = counts_with_full(families, folds.len() - 1)?;
+    if !(1..=MAX_DRAWS).contains(&draws) {
+        return Err(SurrogateError::InvalidArgument(format!(
+            "a learning curve takes 1 to {MAX_DRAWS} draws of training families per count, \
+             not {draws}"
+        )));
+    }
+    Ok((folds, counts))
+}
+
+/// Draws at a count of `n` of the `full` other families: all of them can be chosen one
+/// way only.
+fn draws_at(n: usize, full: usize, draws: usize) -> usize {
+    if n == full {
+        1
+    } else {
+        draws
     }
 }
 
@@ -305,5 +392,36 @@ mod tests {
                 LearningCurve::run(&MAPPINGS[0], &samples, &params(), &[2], draws, 1).unwrap_err();
             assert!(e.to_string().contains("1 to 4096 draws"), "{e}");
         }
+    }
+
+    #[test]
+    fn the_cost_counts_every_fit_and_refuses_a_curve_that_cannot_finish() {
+        let samples = banded_families();
+        let cost = CurveCost::of(&MAPPINGS[0], &samples, &params(), &[1, 3], 4).unwrap();
+        // 8 held-out families x (4 draws at 1 and at 3 families, 1 at all 7).
+        assert_eq!(cost.fits, 8 * (4 + 4 + 1));
+        assert!(
+            cost.seconds_per_fit > 0.0 && cost.seconds_per_fit < 60.0,
+            "{cost:?}"
+        );
+        assert_eq!(cost.check().unwrap(), None);
+        let e = CurveCost::of(&MAPPINGS[0], &samples, &params(), &[2], MAX_DRAWS + 1).unwrap_err();
+        assert!(e.to_string().contains("1 to 4096 draws"), "{e}");
+        let long = |seconds_per_fit| CurveCost {
+            seconds_per_fit,
+            ..cost
+        };
+        // 72 fits, 1 or 2 at a time: 2 days, then 2 years.
+        let day = 2.0 * 86_400.0 * cost.parallel as f64 / 72.0;
+        let warning = long(day).check().unwrap().unwrap();
+        assert!(
+            warning.contains("72 fits") && warning.contains("2.0 days"),
+            "{warning}"
+        );
+        let e = long(365.0 * day).check().unwrap_err().to_string();
+        assert!(
+            e.contains("cannot finish") && e.contains("fewer draws"),
+            "{e}"
+        );
     }
 }

@@ -246,6 +246,10 @@ pub fn describe(outcome: &Outcome) -> String {
     }
 }
 
+/// A solved candidate's bins in the closure's training-domain coordinates, and that
+/// domain's threshold.
+type States = (Vec<Vec<f64>>, f64);
+
 /// Marks as covered the bins `by` covers, candidate by candidate.
 fn mark(covered: &mut [Vec<bool>], by: &[Vec<bool>]) {
     for (c, b) in covered.iter_mut().zip(by) {
@@ -262,7 +266,7 @@ fn candidate_outcome(
     kind: ClosureKind,
     scene: &sim::Scene,
     level: f64,
-) -> Result<(Outcome, Option<(Vec<Vec<f64>>, f64)>)> {
+) -> Result<(Outcome, Option<States>)> {
     let problem = ProfileProblem::from_scene(scene)?;
     let solution = match problem.solve(closures.get(kind)?, Some(&closures.local), START_PRESSURE) {
         Ok(s) => s,

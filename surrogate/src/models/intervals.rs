@@ -202,7 +202,7 @@ impl IntervalCalibration {
                     || [&r.residual, &r.below, &r.above]
                         .iter()
                         .any(|v| v.iter().any(|x| !x.is_finite()))
-                    || r.noise.iter().any(|x| !(x.is_finite() && *x >= 0.0))
+                    || r.noise.iter().any(|x| !x.is_finite() || *x < 0.0)
             })
         {
             Some(

@@ -163,7 +163,7 @@ impl IntervalStudy {
         let (left_out, folds) = tuning_folds(samples)?;
         let mut oof = out_of_fold(mapping, samples, params, left_out, &folds)?;
         if let Some(noise) = noise {
-            if noise.dim() != oof.noise.dim() || noise.iter().any(|e| !(*e >= 0.0)) {
+            if noise.dim() != oof.noise.dim() || noise.iter().any(|e| e.is_nan() || *e < 0.0) {
                 return Err(SurrogateError::InvalidArgument(format!(
                     "the targets' standard errors must be {} x {} numbers >= 0",
                     samples.n_rows(),

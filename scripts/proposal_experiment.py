@@ -2,11 +2,15 @@
 """Does simulating the scenes `suspflow propose` ranks first narrow the bands more than
 simulating as many candidates drawn at random? (issue 52, item 4)
 
-1. `propose` ranks the candidates of --candidates with the models of --models and writes the
-   top --top as a grid; --draws grids of as many candidates drawn at random (seeded) are
-   written beside it.
-2. Each grid is run by `generate` (runs of 1-4 minutes, three seeds: grids/propose_candidates.toml)
-   and merged with the training runs (--train-runs) into a training table per arm.
+1. `propose` ranks the candidates of --candidates with the models of --models and writes its
+   batch of --top (picked to cover the widest bands of all candidates, the arm `proposed`);
+   beside it the --top widest by their own bands alone (`widest`, what `propose` wrote
+   before it picked batches) and --draws sets of as many candidates drawn at random
+   (seeded, `random<k>`).
+2. Each arm's scenes are run by `generate` (runs of 1-4 minutes, three seeds:
+   grids/propose_candidates.toml), except those an earlier arm already ran: the same scene
+   file and seeds, so the same simulations, whose runs are copied; then merged with the
+   training runs (--train-runs) into a training table per arm.
 3. Each arm's table trains the four mappings with the models' own hyper-parameters (`train
    --params-from`), which also calibrates their intervals and the bands of `solve`.
 4. `propose` ranks the candidates again with each arm's models: the mean relative band
@@ -46,22 +50,25 @@ def run(cmd, log=None, tolerate=False):
 
 
 RANK_LINE = re.compile(
-    r"^\s*(\d+) [ *](\S+) (.*) \(L_y (\S+), phi (\S+)\): "
+    r"^\s*(\d+) ([ *])(\S+) (.*) \(L_y (\S+), phi (\S+)\): "
     r"(?:score (\S+) \(relative widths u (\S+), phi_loc (\S+), mu (\S+)\)|not solved)"
 )
+BATCH_LINE = re.compile(r"in the order (.*)\): ")
 
 
 def ranking(text):
-    """The candidates of `propose`'s printed ranking: id -> (profile, phi, score, widths)."""
+    """The candidates of `propose`'s printed ranking, id -> (profile, phi, score, widths),
+    and the ids of its batch in the order picked."""
     rows = {}
     for line in text.splitlines():
         m = RANK_LINE.match(line)
         if not m:
             continue
-        score = float(m.group(6)) if m.group(6) else float("nan")
-        widths = [float(m.group(k)) if m.group(k) else float("nan") for k in (7, 8, 9)]
-        rows[m.group(2)] = (m.group(3), float(m.group(5)), score, widths)
-    return rows
+        score = float(m.group(7)) if m.group(7) else float("nan")
+        widths = [float(m.group(k)) if m.group(k) else float("nan") for k in (8, 9, 10)]
+        rows[m.group(3)] = (m.group(4), float(m.group(6)), score, widths)
+    batch = BATCH_LINE.search(text)
+    return rows, batch.group(1).split(", ") if batch else []
 
 
 def propose(args, models, out_grid, log, top):
@@ -73,7 +80,48 @@ def propose(args, models, out_grid, log, top):
         with open(log, "w") as f:
             f.write(text)
     with open(log) as f:
-        return ranking(f.read())
+        return ranking(f.read())[0]
+
+
+def proposed_batch(log):
+    """The ids of the batch `propose` picked, in its log `log`, in the order picked."""
+    with open(log) as f:
+        return ranking(f.read())[1]
+
+
+def reuse_runs(args, arm, cases, earlier):
+    """Writes `datasets/<arm>_reused.csv` (and its scenes table) with the runs of the
+    `cases` (profile, phi) that one of the `earlier` arms ran; returns the cases left to
+    generate."""
+    runs, scenes, left = [], [], []
+    header = scene_header = None
+    for case in cases:
+        for other in earlier:
+            base = os.path.join(args.out, "datasets", other)
+            with open(base + ".scenes.csv") as f:
+                s_rows = list(csv.DictReader(f))
+            ids = {r["scene_id"] for r in s_rows
+                   if (r["profile"], float(r["phi"])) == (case[0], float(case[1]))}
+            if not ids:
+                continue
+            with open(base + ".csv") as f:
+                reader = csv.DictReader(f)
+                header = reader.fieldnames
+                runs += [r for r in reader if r["scene_id"] in ids]
+            scene_header = list(s_rows[0].keys())
+            scenes += [r for r in s_rows if r["scene_id"] in ids]
+            break
+        else:
+            left.append(case)
+    if runs:
+        path = os.path.join(args.out, "datasets", f"{arm}_reused")
+        for name, head, rows in ((path + ".csv", header, runs),
+                                 (path + ".scenes.csv", scene_header, scenes)):
+            with open(name, "w", newline="") as f:
+                w = csv.DictWriter(f, fieldnames=head, lineterminator="\n")
+                w.writeheader()
+                w.writerows(rows)
+    return left
 
 
 def random_grid(candidates_grid, chosen_cases, name, path):
@@ -122,19 +170,19 @@ def verdict(summary, arms):
     change = {}
     for arm, s in zip(arms, summary[1:]):
         change[arm] = (s["all"] / before - 1, s["not_added_by_arm"] / s["not_added_by_arm_before"] - 1)
-    randoms = [a for a in arms if a != "proposed"]
+    randoms = [a for a in arms if a.startswith("random")]
     out = ["\nChange of the mean relative band width against the shipped models, over all "
            "candidates / over those the arm did not add:\n"]
     out += [f"- `{a}`: {100 * c[0]:+.1f} % / {100 * c[1]:+.1f} %" for a, c in change.items()]
-    if "proposed" in change and randoms:
-        for k, what in enumerate(["all candidates", "the candidates each arm did not add"]):
-            p = change["proposed"][k]
-            r = [change[a][k] for a in randoms]
+    for k, what in enumerate(["all candidates", "the candidates each arm did not add"]):
+        r = [change[a][k] for a in randoms]
+        for arm in [a for a in ("proposed", "widest") if a in change and r]:
+            p = change[arm][k]
             beaten = sum(1 for x in r if p < x)
             out.append(
-                f"\nOver {what}: `proposed` {100 * p:+.1f} %, the {len(r)} random draws "
+                f"\nOver {what}: `{arm}` {100 * p:+.1f} %, the {len(r)} random draws "
                 f"{100 * min(r):+.1f} to {100 * max(r):+.1f} % (mean {100 * mean(r):+.1f} %); "
-                f"the proposed scenes narrowed the bands more than {beaten} of {len(r)} draws."
+                f"`{arm}` narrowed the bands more than {beaten} of {len(r)} draws."
             )
     return out
 
@@ -145,7 +193,7 @@ def code_versions(args, arms):
     runs, models = [], []
     for arm in arms:
         with open(os.path.join(args.out, "datasets", f"{arm}.csv")) as f:
-            runs.append(next(csv.DictReader(f))["code_version"])
+            runs += {r["code_version"] for r in csv.DictReader(f)}
         with open(os.path.join(args.out, "models", arm, "bands.json")) as f:
             models.append(json.load(f).get("code_version", "?"))
     with open(os.path.join(args.models, "bands.json")) as f:
@@ -177,20 +225,44 @@ def main():
         os.path.join(args.out, "ranking_before.txt"), args.top,
     )
     ranked = sorted(before.items(), key=lambda kv: -kv[1][2] if kv[1][2] == kv[1][2] else -1e9)
-    arms = {"proposed": [(v[0], v[1]) for _, v in ranked[: args.top]]}
+    batch = proposed_batch(os.path.join(args.out, "ranking_before.txt"))
+    arms = {
+        "proposed": [(before[i][0], before[i][1]) for i in batch],
+        "widest": [(v[0], v[1]) for _, v in ranked[: args.top]],
+    }
     rng = random.Random(args.seed)
     pool = [(v[0], v[1]) for _, v in sorted(before.items())]
     for d in range(args.draws):
         arms[f"random{d + 1}"] = rng.sample(pool, args.top)
-    for arm, cases in arms.items():
+    # The random draws and the widest ran first: the proposed batch reuses their runs.
+    order = [a for a in arms if a != "proposed"] + ["proposed"]
+    for k, arm in enumerate(order):
+        cases = arms[arm]
         grid = os.path.join(args.out, f"{arm}.toml")
         if arm != "proposed":
             random_grid(args.candidates, cases, arm, grid)
         data = os.path.join(args.out, "datasets", f"{arm}.csv")
         os.makedirs(os.path.dirname(data), exist_ok=True)
         if not os.path.exists(data):
-            run([args.suspflow, "generate", grid, "--out", data, "--jobs", "2", "--threads", "1"],
-                log=os.path.join(args.out, f"generate_{arm}.log"), tolerate=True)
+            left = reuse_runs(args, arm, cases, order[:k])
+            parts = []
+            if len(left) < len(cases):
+                parts.append(os.path.join(args.out, "datasets", f"{arm}_reused.csv"))
+            if left:
+                new_grid = os.path.join(args.out, f"{arm}_new.toml")
+                random_grid(args.candidates, left, f"{arm}_new", new_grid)
+                new = os.path.join(args.out, "datasets", f"{arm}_new.csv")
+                if not os.path.exists(new):
+                    run([args.suspflow, "generate", new_grid, "--out", new, "--jobs", "2",
+                         "--threads", "1"],
+                        log=os.path.join(args.out, f"generate_{arm}.log"), tolerate=True)
+                parts.append(new)
+            run([args.suspflow, "merge", *parts, "--out", data])
+            with open(data.replace(".csv", ".scenes.csv"), "w") as f:
+                for n, part in enumerate(parts):
+                    with open(part.replace(".csv", ".scenes.csv")) as g:
+                        lines = g.readlines()
+                    f.writelines(lines if n == 0 else lines[1:])
         merged = os.path.join(args.out, "datasets", f"train_{arm}.csv")
         if not os.path.exists(merged):
             run([args.suspflow, "merge", args.train_runs, data, "--out", merged])

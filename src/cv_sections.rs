@@ -98,7 +98,7 @@ pub fn mappings_side_by_side(md: &mut String, results: &[FamilyCv]) {
     }
 }
 
-/// One mapping's intervals on the folds: the three methods per output (coverage, mean width,
+/// One mapping's intervals on the folds: the methods per output (coverage, mean width,
 /// interval score, folds covered below 85 % and above 95 %), then the shipped method's
 /// coverage family by family.
 pub fn interval_section(md: &mut String, c: &IntervalCoverage) {
@@ -108,7 +108,10 @@ pub fn interval_section(md: &mut String, c: &IntervalCoverage) {
         "## Intervals of `{}` on the folds ({level:.0} %)\n\n\
          Every row of a held-out family gets the interval of the models trained without it, \
          widened by the margin of the other folds' conformity scores (cross-conformal: a \
-         family's own rows never calibrate its intervals). Coverage: the fraction of held-out \
+         family's own rows never calibrate its intervals). \"noise apart\": the interval of a \
+         target with the row's own standard error (`<output>_se`), the model's error and the \
+         target's noise added in quadrature (models/README.md); \"noise-blind\": one margin \
+         for targets of any noise. Coverage: the fraction of held-out \
          rows inside; width: the mean of upper - lower (output units); interval score: width \
          plus 2 / (1 - level) times the distance of a miss (lower is better); folds: families \
          covered below 85 % / above 95 %.\n\n\

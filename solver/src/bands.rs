@@ -116,6 +116,15 @@ impl Closure for AtUpperEnd<'_> {
         )
     }
 
+    fn evaluate_output(&self, j: f64, descriptor: f64, phi: f64, output: usize) -> Result<f64> {
+        if output == self.output {
+            if let Some(i) = self.closure.interval(j, descriptor, phi, self.level)? {
+                return Ok(i[output].1);
+            }
+        }
+        self.closure.evaluate_output(j, descriptor, phi, output)
+    }
+
     fn descriptor(&self) -> Descriptor<'_> {
         self.closure.descriptor()
     }

@@ -15,6 +15,10 @@ pub const SMOOTHING: f64 = 0.3;
 /// splits as the extremum moves.
 pub const EXTREMUM_SMOOTHING_FLOOR: f64 = 0.5;
 
+/// The index of phi_loc and of mu among a closure's outputs `(phi_loc, mu)`.
+pub const PHI_LOC: usize = 0;
+pub const MU: usize = 1;
+
 /// The ends of the intervals of `(phi_loc, mu)`: `[(lower, upper) of phi_loc, (lower,
 /// upper) of mu]`.
 pub type ClosureInterval = [(f64, f64); 2];
@@ -40,6 +44,13 @@ pub trait Closure {
     /// of [`Closure::descriptor`]; ignored by a law of J alone) and global volume fraction
     /// `phi`.
     fn evaluate(&self, j: f64, descriptor: f64, phi: f64) -> Result<(f64, f64)>;
+
+    /// Output `output` ([`PHI_LOC`] or [`MU`]) of [`Closure::evaluate`] alone, for callers
+    /// that need one (a learned closure then walks only that output's trees).
+    fn evaluate_output(&self, j: f64, descriptor: f64, phi: f64, output: usize) -> Result<f64> {
+        let (phi_loc, mu) = self.evaluate(j, descriptor, phi)?;
+        Ok(if output == PHI_LOC { phi_loc } else { mu })
+    }
 
     /// Which second feature [`Closure::evaluate`] reads.
     fn descriptor(&self) -> Descriptor<'_>;
@@ -86,6 +97,10 @@ impl Closure for LearnedClosure {
         smoothed(&self.predictor, &local_box(j, delta_v, phi))
     }
 
+    fn evaluate_output(&self, j: f64, delta_v: f64, phi: f64, output: usize) -> Result<f64> {
+        smoothed_output(&self.predictor, &local_box(j, delta_v, phi), output)
+    }
+
     fn descriptor(&self) -> Descriptor<'_> {
         Descriptor::DeltaV
     }
@@ -120,6 +135,10 @@ impl NonlocalClosure {
 impl Closure for NonlocalClosure {
     fn evaluate(&self, j: f64, theta: f64, phi: f64) -> Result<(f64, f64)> {
         smoothed(&self.predictor, &local_box(j, theta, phi))
+    }
+
+    fn evaluate_output(&self, j: f64, theta: f64, phi: f64, output: usize) -> Result<f64> {
+        smoothed_output(&self.predictor, &local_box(j, theta, phi), output)
     }
 
     fn descriptor(&self) -> Descriptor<'_> {
@@ -168,6 +187,10 @@ impl ExtremumClosure {
 impl Closure for ExtremumClosure {
     fn evaluate(&self, j: f64, d_ext: f64, phi: f64) -> Result<(f64, f64)> {
         smoothed(&self.predictor, &Self::inputs(j, d_ext, phi))
+    }
+
+    fn evaluate_output(&self, j: f64, d_ext: f64, phi: f64, output: usize) -> Result<f64> {
+        smoothed_output(&self.predictor, &Self::inputs(j, d_ext, phi), output)
     }
 
     fn descriptor(&self) -> Descriptor<'_> {
@@ -222,6 +245,11 @@ fn local_box(j: f64, second: f64, phi: f64) -> FeatureBox {
 fn smoothed(predictor: &Predictor, b: &FeatureBox) -> Result<(f64, f64)> {
     let out = predictor.expected_outputs(&b.x, &b.half_width)?;
     Ok((out[0], out[1]))
+}
+
+/// One output of [`smoothed`].
+fn smoothed_output(predictor: &Predictor, b: &FeatureBox, output: usize) -> Result<f64> {
+    Ok(predictor.expected_output(&b.x, &b.half_width, output)?)
 }
 
 /// The interval at `level` of the expected `(phi_loc, mu)` over the box.

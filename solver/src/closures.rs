@@ -225,8 +225,38 @@ impl Closures {
         phi: f64,
         s: &ProfileSolution,
     ) -> Result<Vec<DomainCheck>> {
+        let rows = self.closure_features(kind, phi, s)?;
+        Ok(self.domains[kind as usize].0.check(rows.view())?)
+    }
+
+    /// Each bin of `s` in the coordinates of the closure `kind`'s training domain (one
+    /// `Vec` per bin), and that domain's distance threshold: within it, two states are as
+    /// close as a training simulation's bins to the nearest other simulation's.
+    pub fn domain_coordinates(
+        &self,
+        kind: ClosureKind,
+        phi: f64,
+        s: &ProfileSolution,
+    ) -> Result<(Vec<Vec<f64>>, f64)> {
+        let rows = self.closure_features(kind, phi, s)?;
+        let domain = &self.domains[kind as usize].0;
+        let flat = domain.coordinates(rows.view())?;
+        let bins = flat
+            .chunks(rows.ncols().max(1))
+            .map(<[f64]>::to_vec)
+            .collect();
+        Ok((bins, domain.threshold))
+    }
+
+    /// The features of the closure `kind` at each bin of `s` (bins x features).
+    fn closure_features(
+        &self,
+        kind: ClosureKind,
+        phi: f64,
+        s: &ProfileSolution,
+    ) -> Result<Array2<f64>> {
         self.get(kind)?;
-        let (domain, features) = &self.domains[kind as usize];
+        let (_, features) = &self.domains[kind as usize];
         let columns = features
             .iter()
             .map(
@@ -240,7 +270,9 @@ impl Closures {
                 },
             )
             .collect::<Result<Vec<_>>>()?;
-        let rows = Array2::from_shape_fn((s.j.len(), columns.len()), |(k, f)| columns[f][k]);
-        Ok(domain.check(rows.view())?)
+        Ok(Array2::from_shape_fn(
+            (s.j.len(), columns.len()),
+            |(k, f)| columns[f][k],
+        ))
     }
 }

@@ -41,7 +41,7 @@ use nalgebra::{linalg::LU, DMatrix, DVector, Dyn};
 
 use surrogate::{distance_to_nearest, extremum_distances, shear_zero_faces, shear_zeros};
 
-use crate::closure::{Closure, Descriptor};
+use crate::closure::{Closure, Descriptor, MU, PHI_LOC};
 use crate::error::{Result, SolverError, Stall};
 use crate::problem::ProfileProblem;
 use crate::solution::ProfileSolution;
@@ -101,6 +101,13 @@ impl Closure for Blend<'_> {
         let (p1, m1) = self.closure.evaluate(j, descriptor, phi)?;
         let w = self.weight;
         Ok(((1.0 - w) * p0 + w * p1, (1.0 - w) * m0 + w * m1))
+    }
+
+    fn evaluate_output(&self, j: f64, descriptor: f64, phi: f64, output: usize) -> Result<f64> {
+        let v0 = self.law.evaluate_output(j, descriptor, phi, output)?;
+        let v1 = self.closure.evaluate_output(j, descriptor, phi, output)?;
+        let w = self.weight;
+        Ok((1.0 - w) * v0 + w * v1)
     }
 
     fn descriptor(&self) -> Descriptor<'_> {
@@ -209,7 +216,7 @@ impl ProfileProblem {
     ) -> Result<f64> {
         let p = x[layout.ln_p()].exp();
         let (j, second, g, magnitude) = self.face_state(closure, layout, x, k, floor, zeros);
-        let (_, mu) = closure.evaluate(j, second, self.phi)?;
+        let mu = closure.evaluate_output(j, second, self.phi, MU)?;
         Ok(-(g / magnitude) * mu * p)
     }
 
@@ -224,7 +231,7 @@ impl ProfileProblem {
         zeros: &[f64],
     ) -> Result<BinState> {
         let (j, second, delta_v, gdot) = self.bin_state(closure, layout, x, k, floor, zeros);
-        let (phi_loc, _) = closure.evaluate(j, second, self.phi)?;
+        let phi_loc = closure.evaluate_output(j, second, self.phi, PHI_LOC)?;
         Ok(BinState {
             f: self.drag_coefficient * phi_loc * (self.u_inf_mean[k] - x[k]),
             phi_loc,

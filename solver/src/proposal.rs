@@ -5,9 +5,24 @@
 //! Each candidate (one scene of a grid file, its replicas aside) is solved from its forcing
 //! with one closure and banded at a level ([`Closures::bands`]); its score is the mean over
 //! u, phi_loc and mu of the band's mean width relative to the profile's mean |value|
-//! ([`ProfileBands::relative_widths`]). A candidate the closure cannot solve ranks above
-//! every banded one: the models cannot say anything there. The written grid sets every field
-//! of each chosen scene in its own case, so it runs the very scenes that were ranked.
+//! ([`crate::bands::ProfileBands::relative_widths`]). A candidate the closure cannot solve
+//! ranks above every banded one: the models cannot say anything there.
+//!
+//! The batch to simulate is not simply the widest few: candidates whose solved states lie
+//! together (the same phi, neighbouring (J, Delta_v)) are narrowed by the same new data, so
+//! a batch of them buys one candidate's worth of information several times (measured:
+//! reports/proposal/README.md, where the four widest, all at one phi, narrowed the bands no
+//! more than four random candidates). A simulated scene informs the states near its own, so
+//! the batch is chosen greedily to cover the widest bands of *all* candidates
+//! ([`Proposal::batch`]): a bin of candidate `c` is covered by candidate `k` when `k`'s
+//! solved profile has a bin of the same phi within the closure's training-domain threshold
+//! (the distance at which a training simulation's bins lie from the nearest other
+//! simulation's, [`surrogate::TrainingDomain`]); each pick adds the most uncovered band, each
+//! bin of `c` weighted by `c`'s score over its bins (a coverage objective, submodular, so the
+//! greedy batch is within `1 - 1/e` of the best). Stalled candidates come first.
+//!
+//! The written grid sets every field of each chosen scene in its own case, so it runs the
+//! very scenes that were ranked.
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -47,6 +62,10 @@ pub struct Candidate {
     /// The scene's file (the first replica's), every field set.
     #[serde(skip)]
     file: sim::SceneFile,
+    /// Each bin of the solved profile in the closure's training-domain coordinates (empty
+    /// for a stalled solve).
+    #[serde(skip)]
+    states: Vec<Vec<f64>>,
 }
 
 /// Candidates ranked, widest bands first.
@@ -55,6 +74,8 @@ pub struct Proposal {
     pub closure: &'static str,
     pub level: f64,
     pub candidates: Vec<Candidate>,
+    /// The closure's training-domain threshold: states closer than it inform each other.
+    pub threshold: f64,
 }
 
 impl Proposal {
@@ -69,13 +90,13 @@ impl Proposal {
                 None => scenes.push((run, vec![run.seed()])),
             }
         }
-        let mut candidates = scenes
+        let solved = scenes
             .par_iter()
             .map(|(run, seeds)| {
                 let f = &run.scene.file;
-                let outcome = candidate_outcome(closures, kind, &run.scene, level)
+                let (outcome, states) = candidate_outcome(closures, kind, &run.scene, level)
                     .map_err(|e| SolverError::InvalidArgument(format!("{}: {e}", run.id)))?;
-                Ok(Candidate {
+                let candidate = Candidate {
                     id: run.id.clone(),
                     profile: f.fluid.profile.clone(),
                     l_y: f.box_.l_y,
@@ -83,9 +104,13 @@ impl Proposal {
                     seeds: seeds.clone(),
                     outcome,
                     file: f.clone(),
-                })
+                    states: states.as_ref().map_or_else(Vec::new, |s| s.0.clone()),
+                };
+                Ok((candidate, states.map(|s| s.1)))
             })
             .collect::<Result<Vec<_>>>()?;
+        let threshold = solved.iter().find_map(|(_, t)| *t).unwrap_or(0.0);
+        let mut candidates: Vec<Candidate> = solved.into_iter().map(|(c, _)| c).collect();
         let key = |c: &Candidate| match c.outcome {
             Outcome::Stalled(_) => f64::INFINITY,
             Outcome::Banded { score, .. } => score,
@@ -95,31 +120,110 @@ impl Proposal {
             closure: kind.name(),
             level,
             candidates,
+            threshold,
         })
     }
 
-    /// A grid named `name` of the first `top` candidates, one case each setting every field
-    /// of its scene (its replicas' seeds as `seed = [...]`), in rank order.
-    pub fn grid_toml(&self, name: &str, top: usize) -> Result<String> {
+    /// The indices (into `candidates`) of a batch of `top`, in the order picked: the stalled
+    /// candidates first, then greedily the candidate that covers the most not yet covered
+    /// band of all candidates (module doc; ties go to the higher ranked).
+    pub fn batch(&self, top: usize) -> Vec<usize> {
+        let n = self.candidates.len();
+        let mut picked: Vec<usize> = (0..n)
+            .filter(|&k| matches!(self.candidates[k].outcome, Outcome::Stalled(_)))
+            .take(top)
+            .collect();
+        // covers[k][c][b]: whether candidate k's states cover bin b of candidate c.
+        let covers: Vec<Vec<Vec<bool>>> = (0..n)
+            .map(|k| (0..n).map(|c| self.covered_bins(k, c)).collect())
+            .collect();
+        let weight: Vec<f64> = self
+            .candidates
+            .iter()
+            .map(|c| match c.outcome {
+                Outcome::Banded { score, .. } if !c.states.is_empty() => {
+                    score / c.states.len() as f64
+                }
+                _ => 0.0,
+            })
+            .collect();
+        let mut covered: Vec<Vec<bool>> = self
+            .candidates
+            .iter()
+            .map(|c| vec![false; c.states.len()])
+            .collect();
+        for &k in &picked {
+            mark(&mut covered, &covers[k]);
+        }
+        while picked.len() < top.min(n) {
+            let gain = |k: usize| -> f64 {
+                (0..n)
+                    .map(|c| {
+                        let newly = covers[k][c]
+                            .iter()
+                            .zip(&covered[c])
+                            .filter(|(&by_k, &already)| by_k && !already)
+                            .count();
+                        weight[c] * newly as f64
+                    })
+                    .sum()
+            };
+            let best = (0..n)
+                .filter(|k| !picked.contains(k))
+                .map(|k| (k, gain(k)))
+                // Ranked order breaks ties: the first of equal gains wins.
+                .fold(None, |best: Option<(usize, f64)>, (k, g)| match best {
+                    Some((_, bg)) if bg >= g => best,
+                    _ => Some((k, g)),
+                });
+            let Some((k, _)) = best else { break };
+            mark(&mut covered, &covers[k]);
+            picked.push(k);
+        }
+        picked
+    }
+
+    /// Which bins of candidate `c` a simulation of candidate `k` informs: those with a bin of
+    /// `k` at the same phi within the threshold.
+    fn covered_bins(&self, k: usize, c: usize) -> Vec<bool> {
+        let (ck, cc) = (&self.candidates[k], &self.candidates[c]);
+        if ck.phi != cc.phi {
+            return vec![false; cc.states.len()];
+        }
+        let r2 = self.threshold * self.threshold;
+        cc.states
+            .iter()
+            .map(|b| {
+                ck.states
+                    .iter()
+                    .any(|q| b.iter().zip(q).map(|(x, y)| (x - y) * (x - y)).sum::<f64>() <= r2)
+            })
+            .collect()
+    }
+
+    /// A grid named `name` of the candidates `batch` (indices, [`Proposal::batch`]), one
+    /// case each setting every field of its scene (its replicas' seeds as `seed = [...]`),
+    /// in that order.
+    pub fn grid_toml(&self, name: &str, batch: &[usize]) -> Result<String> {
         let mut text = format!(
-            "# Proposed by `suspflow propose`: the {} of {} candidates whose {:.0} % bands \
-             of the {} closure are widest\n# (mean relative width of u, phi_loc and mu; \
-             stalled solves first), widest first.\n",
-            top.min(self.candidates.len()),
+            "# Proposed by `suspflow propose`: {} of {} candidates, picked one by one to \
+             cover the widest\n# {:.0} % bands of the {} closure over all candidates (mean \
+             relative width of u, phi_loc\n# and mu; stalled solves first), in the order \
+             picked.\n",
+            batch.len(),
             self.candidates.len(),
             100.0 * self.level,
             self.closure
         );
-        for c in self.candidates.iter().take(top) {
+        for &k in batch {
+            let c = &self.candidates[k];
             text += &format!("#   {}: {}\n", c.id, describe(&c.outcome));
         }
         let mut grid = Table::new();
         grid.insert("name".into(), Value::String(name.to_owned()));
-        let cases = self
-            .candidates
+        let cases = batch
             .iter()
-            .take(top)
-            .map(|c| case_of(c).map(Value::Table))
+            .map(|&k| case_of(&self.candidates[k]).map(Value::Table))
             .collect::<Result<Vec<_>>>()?;
         grid.insert("cases".into(), Value::Array(cases));
         let body = toml::to_string(&grid)
@@ -142,28 +246,46 @@ pub fn describe(outcome: &Outcome) -> String {
     }
 }
 
-/// Solves and bands one candidate.
+/// A solved candidate's bins in the closure's training-domain coordinates, and that
+/// domain's threshold.
+type States = (Vec<Vec<f64>>, f64);
+
+/// Marks as covered the bins `by` covers, candidate by candidate.
+fn mark(covered: &mut [Vec<bool>], by: &[Vec<bool>]) {
+    for (c, b) in covered.iter_mut().zip(by) {
+        for (x, &y) in c.iter_mut().zip(b) {
+            *x |= y;
+        }
+    }
+}
+
+/// Solves and bands one candidate; when banded, its bins in the closure's training-domain
+/// coordinates and that domain's threshold.
 fn candidate_outcome(
     closures: &Closures,
     kind: ClosureKind,
     scene: &sim::Scene,
     level: f64,
-) -> Result<Outcome> {
+) -> Result<(Outcome, Option<States>)> {
     let problem = ProfileProblem::from_scene(scene)?;
     let solution = match problem.solve(closures.get(kind)?, Some(&closures.local), START_PRESSURE) {
         Ok(s) => s,
         Err(e @ (SolverError::NotConverged { .. } | SolverError::ContinuationStalled { .. })) => {
-            return Ok(Outcome::Stalled(e.to_string()))
+            return Ok((Outcome::Stalled(e.to_string()), None))
         }
         Err(e) => return Err(e),
     };
     match closures.bands(kind, &problem, &solution, level)? {
         Bands::Calibrated(calibrated) => {
             let widths = calibrated.0.relative_widths(&solution);
-            Ok(Outcome::Banded {
-                relative_widths: widths,
-                score: widths.iter().sum::<f64>() / 3.0,
-            })
+            let states = closures.domain_coordinates(kind, problem.phi, &solution)?;
+            Ok((
+                Outcome::Banded {
+                    relative_widths: widths,
+                    score: widths.iter().sum::<f64>() / 3.0,
+                },
+                Some(states),
+            ))
         }
         Bands::Missing(why) => Err(SolverError::InvalidArgument(format!(
             "no bands to rank by: {why}"
@@ -244,6 +366,7 @@ mod tests {
                     score: 0.1,
                 },
                 file: f.clone(),
+                states: Vec::new(),
             });
         }
         assert_eq!(candidates.len(), 4);
@@ -253,8 +376,9 @@ mod tests {
             closure: "learned",
             level: 0.9,
             candidates,
+            threshold: 0.1,
         };
-        let text = proposal.grid_toml("next", 2).unwrap();
+        let text = proposal.grid_toml("next", &[0, 1]).unwrap();
         let back = Grid::from_toml(&text, false).unwrap();
         assert_eq!(back.scene_count(), 2);
         assert_eq!(back.runs.len(), 4);
@@ -274,5 +398,58 @@ mod tests {
             );
         }
         assert!(text.contains("candidates_003: score 0.1000"), "{text}");
+    }
+
+    /// Candidates of the grid with the given phi, score and bins (one coordinate each).
+    fn banded(specs: &[(f64, f64, &[f64])]) -> Vec<Candidate> {
+        let grid = Grid::from_toml(GRID, false).unwrap();
+        let file = grid.runs[0].scene.file.clone();
+        specs
+            .iter()
+            .enumerate()
+            .map(|(k, &(phi, score, bins))| Candidate {
+                id: format!("c{k}"),
+                profile: String::new(),
+                l_y: 40.0,
+                phi,
+                seeds: vec![1],
+                outcome: Outcome::Banded {
+                    relative_widths: [score; 3],
+                    score,
+                },
+                file: file.clone(),
+                states: bins.iter().map(|&x| vec![x]).collect(),
+            })
+            .collect()
+    }
+
+    /// A batch covers different states: a near copy of the widest candidate adds nothing
+    /// once it is picked, so the next pick is where uncovered bands remain.
+    #[test]
+    fn the_batch_skips_candidates_whose_states_the_picked_ones_cover() {
+        let candidates = banded(&[
+            // c0, c1: the widest two, at one phi and the same states.
+            (0.57, 0.5, &[0.0, 0.05, 0.1]),
+            (0.57, 0.45, &[0.0, 0.05, 0.12]),
+            // c2: other states at that phi; c3: the same states at another phi.
+            (0.57, 0.3, &[0.5, 0.55, 0.6]),
+            (0.5, 0.2, &[0.0, 0.05, 0.1]),
+        ]);
+        let proposal = Proposal {
+            closure: "learned",
+            level: 0.9,
+            candidates,
+            threshold: 0.03,
+        };
+        // Own width alone would pick c0, c1, c2.
+        assert_eq!(proposal.batch(3), vec![0, 2, 3]);
+        // c0 and c1 cover each other's bins (0.12 lies 0.02 from 0.1): a tie of 0.95 that
+        // the higher ranked c0 wins.
+        assert_eq!(proposal.batch(1), vec![0]);
+        // A stalled candidate comes first.
+        let mut stalled = proposal.clone();
+        stalled.candidates[3].outcome = Outcome::Stalled("no".to_owned());
+        stalled.candidates[3].states.clear();
+        assert_eq!(stalled.batch(2), vec![3, 0]);
     }
 }

@@ -163,9 +163,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         results.push(cv);
         eprintln!("  {}: intervals on the same folds", mapping.name);
         intervals.push(
-            IntervalStudy::run(mapping, samples, params, args.level)
-                .with_context(|| format!("the intervals of `{}`", mapping.name))?
-                .coverage,
+            IntervalStudy::run(
+                mapping,
+                samples,
+                standard_errors.as_ref().map(|se| se.view()),
+                params,
+                args.level,
+            )
+            .with_context(|| format!("the intervals of `{}`", mapping.name))?
+            .coverage,
         );
     }
     let seconds = started.elapsed().as_secs_f64();

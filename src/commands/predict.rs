@@ -82,9 +82,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     match model.intervals() {
         Some(i) => eprintln!(
-            "intervals: {:.0} % (columns <output>_lower, <output>_upper), calibrated on {} folds \
-             leaving one of the {} out, which they covered at 90 %: {}",
+            "intervals: {:.0} % (columns <output>_lower, <output>_upper) of {}, calibrated on \
+             {} folds leaving one of the {} out, which they covered at 90 %: {}",
             100.0 * args.level,
+            if prediction.with_target_noise {
+                "a target with the table's standard error (<output>_se)"
+            } else {
+                "the true mean (the table gives no <output>_se)"
+            },
             i.calibration.folds,
             i.calibration.held_out,
             errors_by_output(&i.calibration.outputs, &i.calibration.fold_coverage)

@@ -2,8 +2,10 @@
 //! candidate scenes of a grid to simulate next. Each candidate is solved from its forcing
 //! with `--closure` and banded at `--level` with the models' calibration (`bands.json`); the
 //! candidates are ranked by the mean relative width of their u, phi_loc and mu bands, widest
-//! first (a candidate the closure does not solve first of all), and the top `--top` are
-//! written as a grid `generate` runs (`solver::Proposal`). The ranking is printed.
+//! first (a candidate the closure does not solve first of all). A batch of `--top` is
+//! picked to cover the widest bands of all candidates (`solver::Proposal::batch`: a
+//! candidate whose states the picked ones already cover adds little) and written as a grid
+//! `generate` runs. The ranking is printed, the batch marked.
 use anyhow::Context;
 use sim::Grid;
 use solver::{proposal::describe, ClosureKind, Closures, Proposal};
@@ -76,11 +78,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         100.0 * args.level,
         args.closure.name()
     );
+    let batch = proposal.batch(args.top);
     for (k, c) in proposal.candidates.iter().enumerate() {
         println!(
             "{:>4} {}{} {} (L_y {}, phi {}): {}",
             k + 1,
-            if k < args.top { "*" } else { " " },
+            if batch.contains(&k) { "*" } else { " " },
             c.id,
             c.profile,
             c.l_y,
@@ -88,13 +91,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             describe(&c.outcome)
         );
     }
-    let text = proposal.grid_toml(&args.name, args.top)?;
+    let text = proposal.grid_toml(&args.name, &batch)?;
     // The proposal must be a grid `generate` runs: read it back before writing.
     Grid::from_toml(&text, false).context("the proposed grid does not read back")?;
     std::fs::write(&args.out, text).with_context(|| format!("writing {}", args.out.display()))?;
+    let order: Vec<&str> = batch
+        .iter()
+        .map(|&k| proposal.candidates[k].id.as_str())
+        .collect();
     println!(
-        "proposed grid ({} scenes, marked *): {}",
-        args.top.min(proposal.candidates.len()),
+        "proposed grid ({} scenes, marked *; picked to cover the widest bands of all \
+         candidates, in the order {}): {}",
+        batch.len(),
+        order.join(", "),
         args.out.display()
     );
     Ok(())

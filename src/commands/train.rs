@@ -14,13 +14,15 @@
 //! (`solver::calibrate_bands`: every family's scenes solved with the models of its fold),
 //! into `<out>/bands.json`.
 use anyhow::Context;
+use ndarray::Array2;
 use solver::{calibrate_bands, BandCalibration, ShippedModel};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 use surrogate::{
-    standard_grid, Dataset, HyperParameters, IntervalCalibration, IntervalStudy, LeftOut, Mapping,
-    ModelMeta, Samples, TableKind, TrainedModel, Tuning, DEFAULT_LEVEL, MIN_TUNING_FAMILIES,
+    output_standard_errors, standard_grid, Dataset, HyperParameters, IntervalCalibration,
+    IntervalStudy, LeftOut, Mapping, ModelMeta, Samples, TableKind, TrainedModel, Tuning,
+    DEFAULT_LEVEL, MIN_TUNING_FAMILIES,
 };
 
 use crate::surrogate_text::{describe, errors_by_output, percent, warn_skipped, widths_by_output};
@@ -117,7 +119,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let t = Instant::now();
         let model = TrainedModel::fit(mapping, &samples, &params)?;
         let train_s = t.elapsed().as_secs_f64();
-        let (model, study) = with_intervals(mapping, model, &samples, &params)?;
+        // The targets' standard errors keep the model's error apart from their noise.
+        let noise = output_standard_errors(&dataset, &samples)?;
+        if noise.is_none() {
+            println!(
+                "{}: the table gives no standard error of every output: intervals \
+                 calibrated as if its targets were noiseless",
+                mapping.name
+            );
+        }
+        let (model, study) = with_intervals(mapping, model, &samples, noise.as_ref(), &params)?;
         studies.extend(study.map(|s| (mapping, params.clone(), s)));
         model
             .save(&args.out)
@@ -250,10 +261,12 @@ fn with_intervals(
     mapping: &Mapping,
     model: TrainedModel,
     samples: &Samples,
+    noise: Option<&Array2<f64>>,
     params: &HyperParameters,
 ) -> anyhow::Result<(TrainedModel, Option<IntervalStudy>)> {
     let t = Instant::now();
-    let study = match IntervalStudy::run(mapping, samples, params, DEFAULT_LEVEL) {
+    let noise = noise.map(Array2::view);
+    let study = match IntervalStudy::run(mapping, samples, noise, params, DEFAULT_LEVEL) {
         Ok(study) => study,
         Err(e) => {
             eprintln!(

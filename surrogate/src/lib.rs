@@ -40,8 +40,8 @@ pub use error::{Result, SurrogateError};
 pub use models::booster::{xgboost_version, Booster, HyperParameters, MultiStrategy, Objective};
 pub use models::forest::Forest;
 pub use models::intervals::{
-    check_level, conformal_quantile, widen, IntervalCalibration, Intervals, ModelIntervals,
-    DEFAULT_LEVEL, QUANTILE_LEVELS,
+    check_level, conformal_quantile, noise_quantile, widen, CalibrationRows, IntervalCalibration,
+    Intervals, ModelIntervals, DEFAULT_LEVEL, QUANTILE_LEVELS,
 };
 pub use models::metrics::relative_l2_error;
 pub use models::model::{ModelMeta, TrainedModel, TrainingData};

@@ -5,9 +5,10 @@
 mod common;
 
 use common::{scratch_dir, synthetic_csv_with_families, Lcg};
+use ndarray::Array2;
 use surrogate::{
-    Dataset, HyperParameters, IntervalMethod, IntervalStudy, Mapping, Predictor, Samples,
-    TrainedModel, DEFAULT_LEVEL,
+    output_standard_errors, Dataset, HyperParameters, IntervalMethod, IntervalStudy, Mapping,
+    Predictor, Samples, TrainedModel, DEFAULT_LEVEL,
 };
 
 /// Half-width of the uniform noise added to mu: the spread the intervals must learn.
@@ -50,7 +51,7 @@ fn intervals_cover_their_level_on_held_out_families_and_on_new_rows() {
     let mapping = Mapping::by_name("mu").unwrap();
     let data = noisy_dataset(24, 40, 11, 8);
     let samples = Samples::from_dataset(&data, mapping).unwrap();
-    let study = IntervalStudy::run(mapping, &samples, &params(), DEFAULT_LEVEL).unwrap();
+    let study = IntervalStudy::run(mapping, &samples, None, &params(), DEFAULT_LEVEL).unwrap();
     assert_eq!(study.calibration.folds, 8);
     let n = samples.n_rows();
     // The noise is independent between rows, so the held-out rows' coverage is binomial
@@ -84,7 +85,7 @@ fn intervals_cover_their_level_on_held_out_families_and_on_new_rows() {
     let fresh = noisy_dataset(10, 40, 12, 8);
     let fresh_samples = Samples::from_dataset(&fresh, mapping).unwrap();
     let intervals = model
-        .predict_intervals(fresh_samples.features.view(), DEFAULT_LEVEL)
+        .predict_intervals(fresh_samples.features.view(), None, DEFAULT_LEVEL)
         .unwrap()
         .unwrap();
     let covered = intervals.covers(fresh_samples.outputs.view());
@@ -95,7 +96,7 @@ fn intervals_cover_their_level_on_held_out_families_and_on_new_rows() {
     );
     // A lower level gives narrower intervals inside the wider ones.
     let narrow = model
-        .predict_intervals(fresh_samples.features.view(), 0.5)
+        .predict_intervals(fresh_samples.features.view(), None, 0.5)
         .unwrap()
         .unwrap();
     assert!(narrow
@@ -110,27 +111,107 @@ fn intervals_cover_their_level_on_held_out_families_and_on_new_rows() {
         .all(|(n, w)| n <= w));
 }
 
+/// [`synthetic_csv_with_families`] with Gaussian noise on `mu` of a standard error drawn per
+/// row from `sigmas` (uniformly), written in `mu_se`.
+fn gaussian_noise_dataset(scenes: usize, rows: usize, seed: u64, sigmas: &[f64]) -> Dataset {
+    let csv = synthetic_csv_with_families(scenes, rows, seed, 8);
+    let mut lines = csv.lines();
+    let header = lines.next().unwrap();
+    let column = |name: &str| header.split(',').position(|c| c == name).unwrap();
+    let (mu, mu_se) = (column("mu"), column("mu_se"));
+    let mut rng = Lcg::new(seed + 200);
+    let mut out = header.to_owned() + "\n";
+    for line in lines {
+        let mut cells: Vec<String> = line.split(',').map(str::to_owned).collect();
+        let sigma = sigmas[((rng.uniform() * sigmas.len() as f64) as usize).min(sigmas.len() - 1)];
+        // Box-Muller.
+        let (u1, u2) = (1.0 - rng.uniform(), rng.uniform());
+        let gauss = (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos();
+        let value: f64 = cells[mu].parse().unwrap();
+        cells[mu] = (value + sigma * gauss).to_string();
+        cells[mu_se] = sigma.to_string();
+        out += &(cells.join(",") + "\n");
+    }
+    Dataset::from_csv_bytes(out.as_bytes(), "gaussian noise").unwrap()
+}
+
+#[test]
+fn intervals_with_the_noise_apart_cover_quiet_and_noisy_targets_alike() {
+    // Calibrated on rows of two noise levels, the intervals of new rows as quiet as the
+    // quieter (or as noisy as the noisier) cover them at the level; blind to the noise,
+    // one width for both over-covers the quiet rows and under-covers the noisy ones.
+    let mapping = Mapping::by_name("mu").unwrap();
+    let (quiet, noisy) = (0.01, 0.06);
+    let data = gaussian_noise_dataset(24, 40, 31, &[quiet, noisy]);
+    let samples = Samples::from_dataset(&data, mapping).unwrap();
+    let se = output_standard_errors(&data, &samples).unwrap().unwrap();
+    let calibrate = |noise: Option<&Array2<f64>>| {
+        let study = IntervalStudy::run(
+            mapping,
+            &samples,
+            noise.map(Array2::view),
+            &params(),
+            DEFAULT_LEVEL,
+        )
+        .unwrap();
+        let model = TrainedModel::fit(mapping, &samples, &params()).unwrap();
+        let trees = model.fit_quantile_trees(&samples, &params()).unwrap();
+        model.with_intervals(trees, study.calibration).unwrap()
+    };
+    let (apart, blind) = (calibrate(Some(&se)), calibrate(None));
+    let coverage = |model: &TrainedModel, sigma: f64, with_noise: bool| {
+        let fresh = gaussian_noise_dataset(10, 40, 37 + (sigma * 1e3) as u64, &[sigma]);
+        let fresh_samples = Samples::from_dataset(&fresh, mapping).unwrap();
+        let fresh_se = output_standard_errors(&fresh, &fresh_samples)
+            .unwrap()
+            .unwrap();
+        let intervals = model
+            .predict_intervals(
+                fresh_samples.features.view(),
+                with_noise.then(|| fresh_se.view()),
+                DEFAULT_LEVEL,
+            )
+            .unwrap()
+            .unwrap();
+        let covered = intervals.covers(fresh_samples.outputs.view());
+        let n = covered.len();
+        (covered.iter().filter(|&&c| c).count() as f64 / n as f64, n)
+    };
+    for sigma in [quiet, noisy] {
+        let (c, n) = coverage(&apart, sigma, true);
+        // 400 independent rows: binomial standard error 0.015; 4 of them allowed.
+        assert!(near_level(c, n, 4.0), "noise apart, sigma {sigma}: {c}");
+    }
+    let (c_quiet, _) = coverage(&blind, quiet, false);
+    let (c_noisy, _) = coverage(&blind, noisy, false);
+    assert!(c_quiet > 0.97, "noise-blind, quiet rows: {c_quiet}");
+    assert!(c_noisy < 0.85, "noise-blind, noisy rows: {c_noisy}");
+}
+
 #[test]
 fn saved_intervals_are_read_back_and_a_stale_calibration_is_refused() {
     let mapping = Mapping::by_name("dv").unwrap();
     let data = noisy_dataset(12, 30, 21, 4);
     let samples = Samples::from_dataset(&data, mapping).unwrap();
-    let study = IntervalStudy::run(mapping, &samples, &params(), DEFAULT_LEVEL).unwrap();
+    let se = output_standard_errors(&data, &samples).unwrap().unwrap();
+    let study =
+        IntervalStudy::run(mapping, &samples, Some(se.view()), &params(), DEFAULT_LEVEL).unwrap();
     let model = TrainedModel::fit(mapping, &samples, &params()).unwrap();
     let trees = model.fit_quantile_trees(&samples, &params()).unwrap();
     let model = model.with_intervals(trees, study.calibration).unwrap();
     let dir = scratch_dir("intervals_round_trip");
     model.save(&dir).unwrap();
     let predictor = Predictor::load(&dir, "dv").unwrap();
+    // The table's standard errors (`<output>_se`) are the targets' noise of both.
     let library = model
-        .predict_intervals(samples.features.view(), DEFAULT_LEVEL)
+        .predict_intervals(samples.features.view(), Some(se.view()), DEFAULT_LEVEL)
         .unwrap()
         .unwrap();
-    let own = predictor
+    let prediction = predictor
         .predict_with_intervals(&data, DEFAULT_LEVEL)
-        .unwrap()
-        .intervals
         .unwrap();
+    assert!(prediction.with_target_noise);
+    let own = prediction.intervals.unwrap();
     // Both walk the same f32 leaves; the sums' order may differ in the last bit.
     for (a, b) in library
         .lower

@@ -216,6 +216,20 @@ impl TrainingDomain {
             .collect())
     }
 
+    /// The rows of `features` (rows x features, in the model's order) in the domain's
+    /// coordinates, row after row: the space of [`TrainingDomain::threshold`] (a scene-level
+    /// feature's coordinate is 0).
+    pub fn coordinates(&self, features: ArrayView2<f64>) -> Result<Vec<f64>> {
+        if features.ncols() != self.axes.len() {
+            return Err(SurrogateError::InvalidArgument(format!(
+                "the training domain has {} features, the rows {}",
+                self.axes.len(),
+                features.ncols()
+            )));
+        }
+        Ok(coordinates(&self.axes, features))
+    }
+
     /// The check of each row of `features` (rows x features, in the model's order).
     pub fn check(&self, features: ArrayView2<f64>) -> Result<Vec<DomainCheck>> {
         let n_features = self.axes.len();

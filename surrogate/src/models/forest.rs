@@ -162,11 +162,19 @@ impl Forest {
     /// right. Unlike [`Forest::predict`], which is piecewise constant, this is continuous in
     /// `x` wherever every half-width is positive, so a Newton solver can differentiate it.
     pub fn expected(&self, x: &[f64], half_width: &[f64]) -> Vec<f64> {
-        let mut sums: Vec<f64> = self.base_score.iter().map(|&b| f64::from(b)).collect();
-        for tree in &self.trees {
-            sums[tree.output] += tree.expected(0, x, half_width);
+        (0..self.base_score.len())
+            .map(|output| self.expected_output(x, half_width, output))
+            .collect()
+    }
+
+    /// Output `output` of [`Forest::expected`] alone: the other outputs' trees are not
+    /// walked (a solver that needs one output of a two-output model halves its work).
+    pub fn expected_output(&self, x: &[f64], half_width: &[f64], output: usize) -> f64 {
+        let mut sum = f64::from(self.base_score[output]);
+        for tree in self.trees.iter().filter(|t| t.output == output) {
+            sum += tree.expected(0, x, half_width);
         }
-        sums
+        sum
     }
 
     /// XGBoost's "gain" importance of each feature, in feature order: the average loss

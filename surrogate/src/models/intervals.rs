@@ -1,22 +1,38 @@
 //! Prediction intervals of a trained mapping: conformalised quantile trees (CQR; Romano,
-//! Patterson & Candès, NeurIPS 2019), calibrated on rows the model did not see.
+//! Patterson & Candès, NeurIPS 2019), calibrated on rows the model did not see, with the
+//! model's error kept apart from the target's own noise.
 //!
 //! Beside the model's own trees, one booster per output learns the 5 % and 95 % quantiles
 //! ([`QUANTILE_LEVELS`]) of what the model's trees learn (the scaled output, or the scaled
 //! residual of the backbone) with XGBoost's pinball loss. Quantile trees fitted on the training
-//! rows are too narrow on a new forcing (84.6-85.8 % of the held-out rows inside the 90 %
+//! rows are too narrow on a new forcing (81-86 % of the held-out rows inside the 90 %
 //! band on the profile-family folds, docs/physics.md section 8), so they are widened by a
-//! margin `m`: with the conformity score `s = max(lower - y, y - upper)` of every training
-//! row, predicted by the fold that held its profile family out
-//! ([`crate::validation::interval_calibration`]), the interval at level `L` is
-//! `[min(y_hat, lower - m), max(y_hat, upper + m)]` with `m` the `ceil((n + 1) L)`-th
-//! smallest of the `n` scores (split conformal prediction; an interval that never excludes
-//! its own prediction), clipped into the output's physical range. The scores are stored, so
-//! any level can be asked for; the trees are those of 5 % and 95 %.
+//! margin `m`, learnt on the rows of the families each model did not see
+//! ([`crate::validation::interval_calibration`]).
+//!
+//! A target `y` of a simulation is the flow's true mean plus noise of standard error `sigma`
+//! (the table's `<output>_se`: a 3-seed ensemble mean has `1/sqrt(3)` of a single run's). The
+//! model's miss of the true mean and that noise are independent, so their half-widths add in
+//! quadrature. At level `L`, with `z = Phi^-1((1 + L) / 2)`, `below = y_hat - lower_q` and
+//! `above = upper_q - y_hat` the quantile trees' spans, the interval of a target with standard
+//! error `sigma` is
+//!
+//! `[y_hat - sqrt((below + m)_+^2 + (z sigma)^2), y_hat + sqrt((above + m)_+^2 + (z sigma)^2)]`
+//!
+//! (`(x)_+ = max(x, 0)`). A calibration row of residual `r = y - y_hat` lies inside iff its
+//! score `s = sqrt(r^2 - (z sigma)^2) - (above if r > 0 else below)` is at most `m` (`s =
+//! -infinity` when `|r| <= z sigma`: its own noise covers it), so `m` is the
+//! `ceil((n + 1) L)`-th smallest of the `n` scores (split conformal prediction), and the
+//! intervals cover a fraction `L` of rows as noisy as the calibration rows. A row whose
+//! target is less noisy (more seeds) gets the narrower interval it deserves, and `sigma = 0`
+//! gives the interval of the true mean (infinitely many seeds), what the model alone is
+//! unsure of. With `sigma = 0` everywhere this is CQR as published. The intervals are
+//! clipped into the output's physical range. The calibration rows are stored, so any level
+//! can be asked for; the trees are those of 5 % and 95 %.
 
 use std::path::{Path, PathBuf};
 
-use ndarray::{Array2, ArrayView2, Axis};
+use ndarray::{Array2, ArrayView1, ArrayView2, Axis};
 use serde::{Deserialize, Serialize};
 
 use crate::data::files;
@@ -25,6 +41,7 @@ use crate::error::{Result, SurrogateError};
 use crate::models::booster::Booster;
 use crate::models::forest::Forest;
 use crate::models::model::ModelMeta;
+use crate::rheology::statistics::standard_normal_quantile;
 
 /// The level of the intervals the commands report unless asked for another.
 pub const DEFAULT_LEVEL: f64 = 0.9;
@@ -53,22 +70,99 @@ pub struct IntervalCalibration {
     /// scores of another training are refused.
     pub training_fnv1a_64: schema::Fingerprint,
     pub training_rows: usize,
-    /// Per output, every training row's conformity score `max(lower - y, y - upper)` (output
-    /// units) from the models of the fold that held it out, ascending.
-    pub scores: Vec<Vec<f64>>,
+    /// Per output, every training row as the models of the fold that held it out saw it.
+    pub rows: Vec<CalibrationRows>,
+}
+
+/// One output's calibration rows (output units): each training row's residual `y - y_hat`
+/// and its quantile trees' spans `y_hat - lower` and `upper - y_hat` (negative when that
+/// quantile lies beyond the prediction), from the models of the fold that held it out, and
+/// the standard error of its target (0 when the table gave none).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CalibrationRows {
+    pub residual: Vec<f64>,
+    pub below: Vec<f64>,
+    pub above: Vec<f64>,
+    pub noise: Vec<f64>,
+}
+
+impl CalibrationRows {
+    /// The rows of `residual`, `below`, `above` and `noise` (one value per row each).
+    pub fn of(
+        residual: ArrayView1<f64>,
+        below: ArrayView1<f64>,
+        above: ArrayView1<f64>,
+        noise: ArrayView1<f64>,
+    ) -> Self {
+        CalibrationRows {
+            residual: residual.to_vec(),
+            below: below.to_vec(),
+            above: above.to_vec(),
+            noise: noise.to_vec(),
+        }
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.residual.len()
+    }
+
+    /// Whether there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.residual.is_empty()
+    }
+
+    /// The rows `rows` (indices), in that order.
+    pub fn select(&self, rows: &[usize]) -> Self {
+        let pick = |v: &Vec<f64>| rows.iter().map(|&i| v[i]).collect();
+        CalibrationRows {
+            residual: pick(&self.residual),
+            below: pick(&self.below),
+            above: pick(&self.above),
+            noise: pick(&self.noise),
+        }
+    }
+
+    /// Every row's conformity score at `level` (module doc), ascending.
+    pub fn scores(&self, level: f64) -> Vec<f64> {
+        let z = noise_quantile(level);
+        let mut scores: Vec<f64> = (0..self.len())
+            .map(|i| {
+                let r = self.residual[i];
+                let need = (r * r - (z * self.noise[i]).powi(2)).max(0.0).sqrt();
+                if need > 0.0 {
+                    need - if r > 0.0 {
+                        self.above[i]
+                    } else {
+                        self.below[i]
+                    }
+                } else {
+                    f64::NEG_INFINITY
+                }
+            })
+            .collect();
+        scores.sort_by(f64::total_cmp);
+        scores
+    }
+
+    /// The margin `m` at `level`: the `ceil((n + 1) level)`-th smallest score of `n`, or
+    /// +infinity when that exceeds `n` (too few rows to bound the interval at that level).
+    pub fn margin(&self, level: f64) -> f64 {
+        conformal_quantile(&self.scores(level), level)
+    }
+}
+
+/// `z = Phi^-1((1 + level) / 2)`: the half-width, in standard errors, of a central interval
+/// at `level` of Gaussian noise.
+pub fn noise_quantile(level: f64) -> f64 {
+    standard_normal_quantile(0.5 * (1.0 + level))
 }
 
 impl IntervalCalibration {
-    /// The margin `m` of each output at `level` (in (0, 1)): the `ceil((n + 1) level)`-th
-    /// smallest score of `n`, or +infinity when that exceeds `n` (too few scores to bound the
-    /// interval at that level).
+    /// The margin `m` of each output at `level` (in (0, 1)), [`CalibrationRows::margin`].
     pub fn margins(&self, level: f64) -> Result<Vec<f64>> {
         check_level(level)?;
-        Ok(self
-            .scores
-            .iter()
-            .map(|s| conformal_quantile(s, level))
-            .collect())
+        Ok(self.rows.iter().map(|r| r.margin(level)).collect())
     }
 
     /// `<dir>/<name>.intervals.json`.
@@ -99,17 +193,23 @@ impl IntervalCalibration {
                  data {}: the intervals of an earlier training",
                 self.training_rows, self.training_fnv1a_64, data.rows, data.fnv1a_64
             ))
-        } else if self.scores.len() != self.outputs.len()
-            || self
-                .scores
-                .iter()
-                .any(|s| s.is_empty() || s.iter().any(|x| !x.is_finite()))
-            || self
-                .scores
-                .iter()
-                .any(|s| s.windows(2).any(|w| w[0] > w[1]))
+        } else if self.rows.len() != self.outputs.len()
+            || self.rows.iter().any(|r| {
+                r.is_empty()
+                    || [&r.below, &r.above, &r.noise]
+                        .iter()
+                        .any(|v| v.len() != r.len())
+                    || [&r.residual, &r.below, &r.above]
+                        .iter()
+                        .any(|v| v.iter().any(|x| !x.is_finite()))
+                    || r.noise.iter().any(|x| !x.is_finite() || *x < 0.0)
+            })
         {
-            Some("its scores are not one ascending list of finite numbers per output".to_owned())
+            Some(
+                "its rows are not, per output, residuals, spans and standard errors of one \
+                 length, finite, the standard errors not negative"
+                    .to_owned(),
+            )
         } else {
             None
         };
@@ -186,18 +286,45 @@ impl Trees for Forest {
 pub struct ModelIntervals<T> {
     pub calibration: IntervalCalibration,
     pub trees: Vec<T>,
+    /// The margins at [`DEFAULT_LEVEL`], computed once (a solve asks for them per bin).
+    default_margins: Vec<f64>,
 }
 
 impl<T: Trees> ModelIntervals<T> {
-    /// The intervals at `level` around the model's predictions `point` of rows `features`.
+    /// The intervals of `trees` calibrated by `calibration` (one tree per output of it).
+    pub fn new(calibration: IntervalCalibration, trees: Vec<T>) -> Self {
+        let default_margins = calibration
+            .rows
+            .iter()
+            .map(|r| r.margin(DEFAULT_LEVEL))
+            .collect();
+        ModelIntervals {
+            calibration,
+            trees,
+            default_margins,
+        }
+    }
+
+    /// The margin of each output at `level` ([`IntervalCalibration::margins`]).
+    pub fn margins(&self, level: f64) -> Result<Vec<f64>> {
+        if level == DEFAULT_LEVEL {
+            Ok(self.default_margins.clone())
+        } else {
+            self.calibration.margins(level)
+        }
+    }
+
+    /// The intervals at `level` around the model's predictions `point` of rows `features`,
+    /// for targets of standard errors `noise` (rows x outputs; `None`: the true means).
     pub fn intervals(
         &self,
         meta: &ModelMeta,
         features: ArrayView2<f64>,
         point: ArrayView2<f64>,
+        noise: Option<ArrayView2<f64>>,
         level: f64,
     ) -> Result<Intervals> {
-        let margins = self.calibration.margins(level)?;
+        let margins = self.margins(level)?;
         let (low, high) = quantile_ends(&self.trees, meta, features)?;
         Ok(widen(
             &meta.outputs,
@@ -205,6 +332,7 @@ impl<T: Trees> ModelIntervals<T> {
             low.view(),
             high.view(),
             &margins,
+            noise,
             level,
         ))
     }
@@ -233,21 +361,34 @@ pub fn quantile_ends<T: Trees>(
     ))
 }
 
-/// `[min(point, low - m), max(point, high + m)]` per cell, `m` the output's margin, clipped
-/// into each output's physical range.
+/// The intervals at `level` of targets of standard errors `noise` (rows x outputs; `None`:
+/// zero) around `point`, from the quantile ends `low`, `high` and the margin `m` of each
+/// output (module doc): `point -+ sqrt((span + m)_+^2 + (z noise)^2)`, clipped into each
+/// output's physical range.
 pub fn widen(
     outputs: &[String],
     point: ArrayView2<f64>,
     low: ArrayView2<f64>,
     high: ArrayView2<f64>,
     margins: &[f64],
+    noise: Option<ArrayView2<f64>>,
     level: f64,
 ) -> Intervals {
+    let z = noise_quantile(level);
+    let half = |span: f64, m: f64, (i, j): (usize, usize)| {
+        let sigma = noise.map_or(0.0, |n| n[[i, j]]);
+        let model = (span + m).max(0.0);
+        if sigma > 0.0 {
+            model.hypot(z * sigma)
+        } else {
+            model
+        }
+    };
     let mut lower = Array2::from_shape_fn(point.dim(), |(i, j)| {
-        point[[i, j]].min(low[[i, j]] - margins[j])
+        point[[i, j]] - half(point[[i, j]] - low[[i, j]], margins[j], (i, j))
     });
     let mut upper = Array2::from_shape_fn(point.dim(), |(i, j)| {
-        point[[i, j]].max(high[[i, j]] + margins[j])
+        point[[i, j]] + half(high[[i, j]] - point[[i, j]], margins[j], (i, j))
     });
     clip_to_physical_range(outputs, &mut lower);
     clip_to_physical_range(outputs, &mut upper);
@@ -260,7 +401,7 @@ pub fn widen(
 
 /// Reads the calibration and quantile trees of model `meta` saved in `dir` with `read_trees`
 /// (the path and its bytes), or `None` when the model has no calibration file.
-pub(crate) fn load_intervals<T>(
+pub(crate) fn load_intervals<T: Trees>(
     dir: &Path,
     meta: &ModelMeta,
     read_trees: impl Fn(&Path, &[u8]) -> Result<T>,
@@ -295,7 +436,7 @@ pub(crate) fn load_intervals<T>(
             Ok(trees)
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(Some(ModelIntervals { calibration, trees }))
+    Ok(Some(ModelIntervals::new(calibration, trees)))
 }
 
 /// The targets the trees of model `meta` learn for rows `features` with outputs `outputs`
@@ -348,6 +489,7 @@ mod tests {
             low.view(),
             high.view(),
             &[0.15],
+            None,
             0.9,
         );
         // Row 1: the quantiles lie above the prediction; row 2: below.
@@ -357,14 +499,94 @@ mod tests {
         // A negative margin (a level below the quantile trees' own) narrows, but never
         // past the prediction.
         let (p, l, h) = (array![[0.5]], array![[0.4]], array![[0.6]]);
-        let i = widen(&outputs, p.view(), l.view(), h.view(), &[-0.5], 0.5);
+        let i = widen(&outputs, p.view(), l.view(), h.view(), &[-0.5], None, 0.5);
         assert_eq!((i.lower[[0, 0]], i.upper[[0, 0]]), (0.5, 0.5));
         // mu is never below 0.
         let (p, l, h) = (array![[0.02]], array![[-0.1]], array![[0.1]]);
-        let i = widen(&outputs, p.view(), l.view(), h.view(), &[0.15], 0.9);
+        let i = widen(&outputs, p.view(), l.view(), h.view(), &[0.15], None, 0.9);
         assert_eq!(i.lower[[0, 0]], 0.0);
         let truth = array![[0.0]];
         assert!(i.covers(truth.view())[[0, 0]]);
+    }
+
+    #[test]
+    fn a_row_lies_inside_its_interval_exactly_when_its_score_is_at_most_the_margin() {
+        // Rows of residual r, spans below / above and noise sigma, each checked against its
+        // own interval (predicted at 0 with quantile ends -below, +above) for margins
+        // between the scores: the score is the smallest margin that covers the row.
+        let rows = CalibrationRows {
+            residual: vec![0.3, -0.2, 0.05, -0.4, 0.0, 0.25],
+            below: vec![0.1, 0.1, 0.2, 0.5, 0.1, -0.05],
+            above: vec![0.1, 0.3, 0.2, 0.1, 0.1, 0.15],
+            noise: vec![0.0, 0.05, 0.1, 0.02, 0.0, 0.2],
+        };
+        let level = 0.9;
+        let outputs = vec!["u".to_owned()];
+        let n = rows.len();
+        let column = |v: &[f64]| Array2::from_shape_vec((n, 1), v.to_vec()).unwrap();
+        let point = Array2::zeros((n, 1));
+        let low = -column(&rows.below);
+        let high = column(&rows.above);
+        let truth = column(&rows.residual);
+        let noise = column(&rows.noise);
+        for m in [-0.3, -0.1, -0.01, 0.0, 0.05, 0.1, 0.2] {
+            let i = widen(
+                &outputs,
+                point.view(),
+                low.view(),
+                high.view(),
+                &[m],
+                Some(noise.view()),
+                level,
+            );
+            let covered = i.covers(truth.view());
+            for k in 0..n {
+                let own = rows.select(&[k]).scores(level)[0];
+                assert_eq!(covered[[k, 0]], own <= m, "row {k}, m {m}");
+            }
+        }
+        // Rows 3 (|r| = 0.05 < z 0.1) and 6 (0.25 < z 0.2) and row 5 (r = 0) are covered by
+        // their noise alone; without noise the scores are CQR's max(lower - y, y - upper).
+        let scores = rows.scores(level);
+        assert_eq!(scores.iter().filter(|s| s.is_infinite()).count(), 3);
+        let blind = CalibrationRows {
+            noise: vec![0.0; n],
+            ..rows.clone()
+        };
+        let scores = blind.scores(level);
+        let mut cqr: Vec<f64> = (0..n)
+            .filter(|&k| rows.residual[k] != 0.0)
+            .map(|k| (-rows.below[k] - rows.residual[k]).max(rows.residual[k] - rows.above[k]))
+            .collect();
+        cqr.sort_by(f64::total_cmp);
+        assert_eq!(&scores[1..], &cqr[..]);
+    }
+
+    #[test]
+    fn less_noise_narrows_the_interval_in_quadrature() {
+        let outputs = vec!["mu".to_owned()];
+        let (p, l, h) = (array![[0.5]], array![[0.4]], array![[0.6]]);
+        let z = noise_quantile(0.9);
+        let at = |sigma: f64| {
+            let noise = array![[sigma]];
+            widen(
+                &outputs,
+                p.view(),
+                l.view(),
+                h.view(),
+                &[0.05],
+                Some(noise.view()),
+                0.9,
+            )
+        };
+        // Model part 0.1 + 0.05 = 0.15 on each side, noise z sigma beside it.
+        for sigma in [0.0, 0.03, 0.1] {
+            let i = at(sigma);
+            let half = 0.15f64.hypot(z * sigma);
+            assert!((i.upper[[0, 0]] - 0.5 - half).abs() < 1e-12, "{sigma}");
+            assert!((0.5 - i.lower[[0, 0]] - half).abs() < 1e-12, "{sigma}");
+        }
+        assert!((z - 1.644_853_627).abs() < 1e-8);
     }
 
     #[test]

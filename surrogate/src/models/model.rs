@@ -154,7 +154,7 @@ impl TrainedModel {
                 self.meta.outputs.len()
             )));
         }
-        self.intervals = Some(ModelIntervals { calibration, trees });
+        self.intervals = Some(ModelIntervals::new(calibration, trees));
         Ok(self)
     }
 
@@ -168,11 +168,13 @@ impl TrainedModel {
         self.intervals.as_ref()
     }
 
-    /// The intervals at `level` of the predictions for rows `features`; `None` for a model
+    /// The intervals at `level` of the predictions for rows `features`, for targets of
+    /// standard errors `noise` (rows x outputs; `None`: the true means); `None` for a model
     /// without calibrated intervals.
     pub fn predict_intervals(
         &self,
         features: ArrayView2<f64>,
+        noise: Option<ArrayView2<f64>>,
         level: f64,
     ) -> Result<Option<Intervals>> {
         let Some(intervals) = &self.intervals else {
@@ -180,7 +182,7 @@ impl TrainedModel {
         };
         let point = self.predict_features(features)?;
         intervals
-            .intervals(&self.meta, features, point.view(), level)
+            .intervals(&self.meta, features, point.view(), noise, level)
             .map(Some)
     }
 

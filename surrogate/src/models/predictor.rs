@@ -32,6 +32,9 @@ pub struct Prediction {
     pub clipped: usize,
     /// The intervals at the level asked for; `None` for a model saved without them.
     pub intervals: Option<Intervals>,
+    /// Whether the intervals are those of targets with the table's standard errors
+    /// (`<output>_se` columns), rather than of the true means.
+    pub with_target_noise: bool,
 }
 
 impl Predictor {
@@ -61,10 +64,10 @@ impl Predictor {
         let intervals = model
             .intervals()
             .map(|i| -> Result<_> {
-                Ok(ModelIntervals {
-                    calibration: i.calibration.clone(),
-                    trees: i.trees.iter().map(forest).collect::<Result<Vec<_>>>()?,
-                })
+                Ok(ModelIntervals::new(
+                    i.calibration.clone(),
+                    i.trees.iter().map(forest).collect::<Result<Vec<_>>>()?,
+                ))
             })
             .transpose()?;
         Ok(Predictor {
@@ -80,7 +83,10 @@ impl Predictor {
         self.intervals.as_ref()
     }
 
-    /// Predictions for the feature columns of `dataset`, with their intervals at `level`.
+    /// Predictions for the feature columns of `dataset`, with their intervals at `level`:
+    /// of the value the row's simulation would measure with the standard errors of the
+    /// table's `<output>_se` columns when it has them (0 in an empty cell), else of the true
+    /// mean ([`crate::models::intervals`]).
     pub fn predict_with_intervals(&self, dataset: &Dataset, level: f64) -> Result<Prediction> {
         check_level(level)?;
         let features = self.meta.feature_matrix(dataset)?;
@@ -88,19 +94,54 @@ impl Predictor {
         let (values, clipped) = self
             .meta
             .outputs_counting_clips(features.view(), scaled.view())?;
+        let noise = self.target_standard_errors(dataset)?;
         let intervals = self
             .intervals
             .as_ref()
-            .map(|i| i.intervals(&self.meta, features.view(), values.view(), level))
+            .map(|i| {
+                i.intervals(
+                    &self.meta,
+                    features.view(),
+                    values.view(),
+                    noise.as_ref().map(Array2::view),
+                    level,
+                )
+            })
             .transpose()?;
         Ok(Prediction {
             values,
             clipped,
             intervals,
+            with_target_noise: noise.is_some(),
         })
     }
 
-    /// The interval at `level` of [`Predictor::expected_outputs`] for one row `x`, each
+    /// The standard errors of the outputs' targets in `dataset` (rows x outputs): its
+    /// `<output>_se` columns, 0 in an empty or non-finite cell and for an output without
+    /// one; `None` when no output has one.
+    fn target_standard_errors(&self, dataset: &Dataset) -> Result<Option<Array2<f64>>> {
+        let names = dataset.column_names();
+        let columns: Vec<Option<String>> = self
+            .meta
+            .outputs
+            .iter()
+            .map(|o| Some(schema::columns::standard_error(o)).filter(|c| names.contains(c)))
+            .collect();
+        if columns.iter().all(Option::is_none) {
+            return Ok(None);
+        }
+        let mut se = Array2::zeros((dataset.n_rows(), columns.len()));
+        for (j, column) in columns.iter().enumerate() {
+            let Some(column) = column else { continue };
+            for (i, &e) in dataset.column(column)?.iter().enumerate() {
+                se[[i, j]] = if e.is_finite() && e > 0.0 { e } else { 0.0 };
+            }
+        }
+        Ok(Some(se))
+    }
+
+    /// The interval at `level` of [`Predictor::expected_outputs`] (of the true mean) for one
+    /// row `x`, each
     /// feature spread over `x_i +- half_width_i`: the quantile trees' expected ends widened
     /// by the margins ([`crate::models::intervals::widen`]), as `(lower, upper)` per output;
     /// `None` for a model without intervals.
@@ -129,7 +170,8 @@ impl Predictor {
             point.view(),
             self.meta.outputs(features, low.view())?.view(),
             self.meta.outputs(features, high.view())?.view(),
-            &intervals.calibration.margins(level)?,
+            &intervals.margins(level)?,
+            None,
             level,
         )))
     }
@@ -161,6 +203,24 @@ impl Predictor {
         let features = ndarray::ArrayView2::from_shape((1, x.len()), x)
             .map_err(|e| crate::error::SurrogateError::InvalidArgument(e.to_string()))?;
         Ok(self.meta.outputs(features, scaled.view())?.row(0).to_vec())
+    }
+
+    /// Output `output` (an index into [`ModelMeta::outputs`]) of
+    /// [`Predictor::expected_outputs`] alone, walking only that output's trees; the same
+    /// number.
+    pub fn expected_output(&self, x: &[f64], half_width: &[f64], output: usize) -> Result<f64> {
+        let n = self.meta.outputs.len();
+        if output >= n {
+            return Err(crate::error::SurrogateError::InvalidArgument(format!(
+                "output {output} of a model of {n} outputs"
+            )));
+        }
+        // The other outputs' cells are left at 0: each output is unscaled on its own.
+        let mut scaled = ndarray::Array2::zeros((1, n));
+        scaled[[0, output]] = self.forest.expected_output(x, half_width, output);
+        let features = ndarray::ArrayView2::from_shape((1, x.len()), x)
+            .map_err(|e| crate::error::SurrogateError::InvalidArgument(e.to_string()))?;
+        Ok(self.meta.outputs(features, scaled.view())?[[0, output]])
     }
 
     /// Predictions in original units (rows x outputs) for the feature columns of `dataset`.

@@ -11,7 +11,10 @@
 //! the held-out rows of fold `f` get the margin of the scores of every other fold, so that a
 //! family's own rows never widen or narrow its intervals. Three methods, on the same fold
 //! fits ([`IntervalMethod`]):
-//! - conformalised quantile trees (the shipped method): `[lower - m, upper + m]`;
+//! - conformalised quantile trees with the targets' noise apart (the shipped method,
+//!   [`crate::models::intervals`]): each row's interval is that of a target with the row's
+//!   own standard error (`<output>_se`);
+//! - the same blind to the noise (CQR as published): `[lower - m, upper + m]`;
 //! - constant conformal: `y_hat +- m` with `m` from the absolute residuals;
 //! - the quantile trees as fitted, `[lower, upper]`, without a margin.
 //!
@@ -29,7 +32,7 @@ use crate::data::samples::Samples;
 use crate::error::{Result, SurrogateError};
 use crate::models::booster::HyperParameters;
 use crate::models::intervals::{
-    check_level, conformal_quantile, mean_widths, quantile_ends, widen, IntervalCalibration,
+    check_level, mean_widths, quantile_ends, widen, CalibrationRows, IntervalCalibration,
     Intervals, DEFAULT_LEVEL, QUANTILE_LEVELS,
 };
 use crate::models::model::{ModelMeta, TrainedModel};
@@ -44,8 +47,10 @@ pub const FOLD_COVERAGE_HIGH: f64 = 0.95;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum IntervalMethod {
-    /// Quantile trees widened by the conformal margin (shipped).
+    /// Quantile trees widened by the conformal margin, the targets' noise apart (shipped).
     ConformalQuantiles,
+    /// Quantile trees widened by the conformal margin, blind to the targets' noise.
+    NoiseBlindConformalQuantiles,
     /// The prediction plus or minus the conformal margin of the absolute residuals.
     ConstantConformal,
     /// The quantile trees' own ends.
@@ -53,8 +58,9 @@ pub enum IntervalMethod {
 }
 
 impl IntervalMethod {
-    pub const ALL: [IntervalMethod; 3] = [
+    pub const ALL: [IntervalMethod; 4] = [
         IntervalMethod::ConformalQuantiles,
+        IntervalMethod::NoiseBlindConformalQuantiles,
         IntervalMethod::ConstantConformal,
         IntervalMethod::QuantileTrees,
     ];
@@ -62,7 +68,12 @@ impl IntervalMethod {
     /// How reports name the method.
     pub fn label(self) -> &'static str {
         match self {
-            IntervalMethod::ConformalQuantiles => "quantile trees + conformal margin (shipped)",
+            IntervalMethod::ConformalQuantiles => {
+                "quantile trees + conformal margin, noise apart (shipped)"
+            }
+            IntervalMethod::NoiseBlindConformalQuantiles => {
+                "quantile trees + conformal margin, noise-blind"
+            }
             IntervalMethod::ConstantConformal => "prediction +- conformal margin",
             IntervalMethod::QuantileTrees => "quantile trees alone",
         }
@@ -116,13 +127,14 @@ pub struct IntervalCoverage {
 }
 
 /// Out-of-fold predictions of every row: the held-out fold, the model's prediction and the
-/// quantile trees' ends (rows x outputs, original units).
+/// quantile trees' ends (rows x outputs, original units), and the targets' standard errors.
 struct OutOfFold {
     fold: Vec<usize>,
     names: Vec<String>,
     point: Array2<f64>,
     low: Array2<f64>,
     high: Array2<f64>,
+    noise: Array2<f64>,
 }
 
 /// The calibration of a mapping's intervals and the coverage measured on its folds.
@@ -130,27 +142,38 @@ struct OutOfFold {
 pub struct IntervalStudy {
     pub calibration: IntervalCalibration,
     pub coverage: IntervalCoverage,
-    /// Every row's conformity scores (rows x outputs) and the name of the fold (family or
-    /// simulation) that held it out.
-    scores: Array2<f64>,
+    /// The name of the fold (family or simulation) that held each row out.
     held_out_by: Vec<String>,
 }
 
 impl IntervalStudy {
     /// Fits `mapping`'s model and quantile trees with `params` on each fold of `samples`,
-    /// scores the held-out rows, and measures every method's cross-conformal coverage at
-    /// `level`. The folds run in parallel on rayon's pool.
+    /// predicts the held-out rows, and measures every method's cross-conformal coverage at
+    /// `level`. `noise` holds the standard errors of the outputs' targets (rows x outputs;
+    /// `None`: noiseless targets, and the shipped method is CQR as published). The folds run
+    /// in parallel on rayon's pool.
     pub fn run(
         mapping: &Mapping,
         samples: &Samples,
+        noise: Option<ArrayView2<f64>>,
         params: &HyperParameters,
         level: f64,
     ) -> Result<Self> {
         check_level(level)?;
         let (left_out, folds) = tuning_folds(samples)?;
-        let oof = out_of_fold(mapping, samples, params, left_out, &folds)?;
+        let mut oof = out_of_fold(mapping, samples, params, left_out, &folds)?;
+        if let Some(noise) = noise {
+            if noise.dim() != oof.noise.dim() || noise.iter().any(|e| e.is_nan() || *e < 0.0) {
+                return Err(SurrogateError::InvalidArgument(format!(
+                    "the targets' standard errors must be {} x {} numbers >= 0",
+                    samples.n_rows(),
+                    samples.output_names.len()
+                )));
+            }
+            oof.noise.assign(&noise);
+        }
         let truth = samples.outputs.view();
-        let cqr = scores(IntervalMethod::ConformalQuantiles, &oof, truth);
+        let rows = calibration_rows(IntervalMethod::ConformalQuantiles, &oof, truth);
         let at_default = cross_conformal(
             IntervalMethod::ConformalQuantiles,
             &oof,
@@ -173,7 +196,7 @@ impl IntervalStudy {
             fold_mean_width: mean_widths(&at_default),
             training_fnv1a_64: samples.source_fingerprint,
             training_rows: samples.n_rows(),
-            scores: cqr.columns().into_iter().map(sorted).collect(),
+            rows,
         };
         let methods = IntervalMethod::ALL
             .iter()
@@ -214,7 +237,6 @@ impl IntervalStudy {
         let held_out_by = oof.fold.iter().map(|&f| oof.names[f].clone()).collect();
         Ok(IntervalStudy {
             calibration,
-            scores: cqr,
             held_out_by,
             coverage: IntervalCoverage {
                 mapping: mapping.name.to_owned(),
@@ -247,11 +269,15 @@ impl IntervalStudy {
                 self.calibration.mapping
             )));
         }
-        let part = self.scores.select(Axis(0), &rows);
         Ok(IntervalCalibration {
             training_fnv1a_64: meta.training_data.fnv1a_64,
             training_rows: meta.training_data.rows,
-            scores: part.columns().into_iter().map(sorted).collect(),
+            rows: self
+                .calibration
+                .rows
+                .iter()
+                .map(|r| r.select(&rows))
+                .collect(),
             ..self.calibration.clone()
         })
     }
@@ -284,6 +310,7 @@ fn out_of_fold(
         point: Array2::zeros((n, k)),
         low: Array2::zeros((n, k)),
         high: Array2::zeros((n, k)),
+        noise: Array2::zeros((n, k)),
     };
     for (f, (fold, (point, low, high))) in folds.iter().zip(fitted).enumerate() {
         let first = fold.test[0];
@@ -301,22 +328,40 @@ fn out_of_fold(
     Ok(oof)
 }
 
-/// Each row's conformity score under `method` (rows x outputs): `max(lower - y, y - upper)`
-/// for the quantile trees, `|y - y_hat|` for the constant interval; zeros for the trees
-/// without a margin.
-fn scores(method: IntervalMethod, oof: &OutOfFold, truth: ArrayView2<f64>) -> Array2<f64> {
-    Array2::from_shape_fn(truth.dim(), |(i, j)| {
-        let y = truth[[i, j]];
-        match method {
-            IntervalMethod::ConformalQuantiles => (oof.low[[i, j]] - y).max(y - oof.high[[i, j]]),
-            IntervalMethod::ConstantConformal => (y - oof.point[[i, j]]).abs(),
-            IntervalMethod::QuantileTrees => 0.0,
-        }
-    })
+/// Every row's residual, spans and noise under `method`, per output: the quantile trees'
+/// spans (zero for the constant interval, whose ends are the prediction), and the targets'
+/// standard errors for the shipped method only.
+fn calibration_rows(
+    method: IntervalMethod,
+    oof: &OutOfFold,
+    truth: ArrayView2<f64>,
+) -> Vec<CalibrationRows> {
+    let residual = &truth - &oof.point;
+    let (below, above) = match method {
+        IntervalMethod::ConstantConformal => (
+            Array2::zeros(residual.raw_dim()),
+            Array2::zeros(residual.raw_dim()),
+        ),
+        _ => (&oof.point - &oof.low, &oof.high - &oof.point),
+    };
+    let noise = match method {
+        IntervalMethod::ConformalQuantiles => oof.noise.clone(),
+        _ => Array2::zeros(residual.raw_dim()),
+    };
+    (0..truth.ncols())
+        .map(|j| {
+            CalibrationRows::of(
+                residual.column(j),
+                below.column(j),
+                above.column(j),
+                noise.column(j),
+            )
+        })
+        .collect()
 }
 
 /// The intervals of every row under `method`, each fold's rows with the margin of the
-/// other folds' scores at `level`.
+/// other folds' rows at `level` (and, for the shipped method, their own noise).
 fn cross_conformal(
     method: IntervalMethod,
     oof: &OutOfFold,
@@ -324,16 +369,17 @@ fn cross_conformal(
     outputs: &[String],
     level: f64,
 ) -> Intervals {
-    let scores = scores(method, oof, truth);
+    let rows = calibration_rows(method, oof, truth);
     let (n, k) = truth.dim();
     let mut lower = Array2::zeros((n, k));
     let mut upper = Array2::zeros((n, k));
     for f in 0..oof.names.len() {
         let (inside, outside): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| oof.fold[i] == f);
-        let margins: Vec<f64> = (0..k)
-            .map(|j| match method {
+        let margins: Vec<f64> = rows
+            .iter()
+            .map(|r| match method {
                 IntervalMethod::QuantileTrees => 0.0,
-                _ => conformal_quantile(&sorted(scores.select(Axis(0), &outside).column(j)), level),
+                _ => r.select(&outside).margin(level),
             })
             .collect();
         let pick = |a: &Array2<f64>| a.select(Axis(0), &inside);
@@ -341,12 +387,14 @@ fn cross_conformal(
             IntervalMethod::ConstantConformal => (pick(&oof.point), pick(&oof.point)),
             _ => (pick(&oof.low), pick(&oof.high)),
         };
+        let noise = pick(&oof.noise);
         let part = widen(
             outputs,
             pick(&oof.point).view(),
             low.view(),
             high.view(),
             &margins,
+            (method == IntervalMethod::ConformalQuantiles).then(|| noise.view()),
             level,
         );
         for (r, &i) in inside.iter().enumerate() {
@@ -419,13 +467,6 @@ pub fn fraction(flags: impl Iterator<Item = bool>) -> f64 {
     } else {
         k as f64 / n as f64
     }
-}
-
-/// The values of `column`, ascending.
-fn sorted(column: ndarray::ArrayView1<f64>) -> Vec<f64> {
-    let mut v = column.to_vec();
-    v.sort_by(f64::total_cmp);
-    v
 }
 
 #[cfg(test)]

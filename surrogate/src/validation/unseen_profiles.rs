@@ -107,8 +107,13 @@ impl Validation {
         let mapping = Mapping::by_name(&model.meta().mapping)?;
         let samples = Samples::from_dataset(dataset, mapping)?;
         let predicted = model.predict_features(samples.features.view())?;
-        let intervals = model.predict_intervals(samples.features.view(), level)?;
         let standard_errors = output_standard_errors(dataset, &samples)?;
+        // The intervals of the targets as noisy as their standard errors say.
+        let intervals = model.predict_intervals(
+            samples.features.view(),
+            standard_errors.as_ref().map(|se| se.view()),
+            level,
+        )?;
         let scaling = &model.meta().scaling;
         let all_profiles = dataset.text(PROFILE_COLUMN)?;
         let profiles: Vec<String> = samples

@@ -5,6 +5,7 @@ mod backward_euler;
 pub mod brownian_limits;
 mod brownian_midpoint;
 pub mod implicit_dissipation;
+mod midpoint_arrays;
 pub mod pass_times;
 pub mod simulation;
 pub mod stage_timers;

@@ -8,8 +8,8 @@ use crate::forces::force_field::ForceField;
 use crate::forces::resistance_network::ResistanceNetwork;
 use crate::input::flow_profile::FlowProfile;
 use crate::input::scene::Scene;
-use crate::integrate::brownian_midpoint::MidpointArrays;
 use crate::integrate::implicit_dissipation::{ImplicitDissipation, SolveSettings, SolveStats};
+use crate::integrate::midpoint_arrays::MidpointArrays;
 use crate::integrate::pass_times::PassTimes;
 use crate::integrate::stage_timers::{Stage, StageTimers};
 use crate::integrate::stepper::Stepper;
@@ -327,7 +327,11 @@ impl Simulation {
         &mut self,
         at_midpoint: &mut dyn FnMut(&Simulation),
     ) -> Result<(), SimError> {
-        self.stepper.step(self, at_midpoint)
+        match self.stepper {
+            Stepper::Verlet => self.verlet_step(),
+            Stepper::BackwardEuler => self.backward_euler_step(),
+            Stepper::BrownianMidpoint => self.midpoint_step(at_midpoint),
+        }
     }
 
     /// Iterations and residual of the last implicit solve.

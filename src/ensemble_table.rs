@@ -1,32 +1,6 @@
-//! The ensemble table of a dataset with replicas (`surrogate::rheology::ensemble`), written
-//! beside the dataset as `<stem>.ensemble.csv` with its summary `<stem>.ensemble.json`.
-use schema::RunTable;
-use std::path::{Path, PathBuf};
-pub use surrogate::EnsembleSummary;
-use surrogate::{build_ensemble, Ensemble};
-
-/// The ensemble files beside dataset `path`: `<stem>.ensemble.csv` and `<stem>.ensemble.json`.
-pub fn paths(path: &Path) -> [PathBuf; 2] {
-    ["csv", "json"].map(|ext| {
-        let mut name = path.with_extension("").into_os_string();
-        name.push(format!(".ensemble.{ext}"));
-        PathBuf::from(name)
-    })
-}
-
-/// The ensemble table and summary of the per-run table `table` of `dataset`.
-pub fn build(dataset: &Path, table: &RunTable) -> anyhow::Result<Ensemble> {
-    Ok(build_ensemble(table, &dataset.display().to_string())?)
-}
-
-/// Writes `ensemble` beside `dataset` (atomically) and returns its summary.
-pub fn write_beside(dataset: &Path, ensemble: Ensemble) -> anyhow::Result<EnsembleSummary> {
-    let [table, summary] = paths(dataset);
-    schema::write_atomic(&table, &ensemble.csv)?;
-    let json = serde_json::to_string_pretty(&ensemble.summary)? + "\n";
-    schema::write_atomic(&summary, json.as_bytes())?;
-    Ok(ensemble.summary)
-}
+//! The ensemble table's summary (`rheometry::sweep_tables`) as text, for `generate` and
+//! `merge`.
+pub use rheometry::EnsembleSummary;
 
 /// The summary as text lines: one per observable with its figures.
 pub fn describe(summary: &EnsembleSummary) -> String {

@@ -159,6 +159,19 @@ impl From<solver::SolverError> for Error {
     }
 }
 
+impl From<rheometry::RheometryError> for Error {
+    fn from(e: rheometry::RheometryError) -> Self {
+        use rheometry::RheometryError as E;
+        match e {
+            E::Sim(e) => e.into(),
+            E::Surrogate(e) => e.into(),
+            E::Schema(schema::SchemaError::Read { .. } | schema::SchemaError::Write { .. })
+            | E::File { .. } => Error::new(Kind::File, e.to_string()),
+            E::Schema(_) => Error::new(Kind::Data, e.to_string()),
+        }
+    }
+}
+
 impl From<Error> for PyErr {
     fn from(e: Error) -> Self {
         match e.kind {

@@ -10,7 +10,8 @@ time, shear rates ``gdot`` in 1 / time, stresses ``sigma_xy`` and pressures ``P`
 (docs/physics.md sections 6 and 8 define the columns).
 
 Functions: :func:`read_scene`, :func:`check`, :func:`simulate`, :func:`predict`,
-:func:`validate`, :func:`read_dataset`, :func:`read_ensemble`, :func:`solve`. Every failure
+:func:`generate`, :func:`green_kubo`, :func:`validate`, :func:`cross_validate`, :func:`flow_curves`,
+:func:`read_dataset`, :func:`read_ensemble`, :func:`solve`. Every failure
 raises a :class:`SuspflowError` with the crates' message (a bad scene names the field), of
 the class of what failed: :class:`FileError` (a file missing, unreadable, locked or not
 written), :class:`SceneError` (an invalid scene), :class:`ModelError` (a model that cannot
@@ -21,6 +22,8 @@ xgboost.
 """
 from __future__ import annotations
 
+import csv
+import io
 import json
 import os
 import pathlib
@@ -56,6 +59,10 @@ __all__ = [
     "SceneError",
     "SuspflowError",
     "check",
+    "cross_validate",
+    "flow_curves",
+    "generate",
+    "green_kubo",
     "predict",
     "read_dataset",
     "read_ensemble",
@@ -165,6 +172,29 @@ def simulate(
     the progress callable, which is re-raised. Returns the run summary (``summary.json``:
     ``n_particles``, ``dt``, ``steps``, ``strain_to_steady``, ``wall_s``, ...)."""
     scene = read_scene(scene)
+    return _run_in_folder(
+        out, resume, force, progress,
+        ("profile.csv", "summary.json"),
+        "the result of an earlier run; resume=True extends it to a longer scene",
+        lambda out, callback: _native.simulate(
+            scene, out, threads, not resume, snapshot, snapshot_format, callback
+        ),
+    )
+
+
+def _run_in_folder(
+    out: PathLike,
+    resume: bool,
+    force: bool,
+    progress: Union[bool, Callable],
+    results: tuple,
+    what: str,
+    run: Callable[[str, Optional[Callable]], str],
+) -> Dict[str, Any]:
+    """``run(out, callback)`` in the run folder ``out``, made (a file there is refused, and
+    so is an earlier run's result, ``results`` whose first holds ``what``, or checkpoint
+    unless ``resume`` continues it or ``force`` starts over), with the callback
+    ``progress`` asks for (True: the status line); returns its JSON result parsed."""
     out = pathlib.Path(out)
     if out.exists() and not out.is_dir():
         raise FileError(f"{out} is a file; choose a directory for the run")
@@ -173,9 +203,9 @@ def simulate(
     if not resume and not force:
         # The run folder's protocol (sim::RunFolder): a finished run has its results (and
         # keeps its final state for a longer run), an unfinished one only its checkpoint.
-        finished = (out / "profile.csv").exists() and (out / "summary.json").exists()
+        finished = all((out / name).exists() for name in results)
         name, what = (
-            ("profile.csv", "the result of an earlier run; resume=True extends it to a longer scene")
+            (results[0], what)
             if finished
             else ("checkpoint.json", "the checkpoint of an unfinished run; resume=True continues it")
         )
@@ -186,13 +216,100 @@ def simulate(
     out.mkdir(parents=True, exist_ok=True)
     callback = _progress_line if progress is True else (progress or None)
     try:
-        summary = _native.simulate(
-            scene, os.fspath(out), threads, not resume, snapshot, snapshot_format, callback
-        )
+        return json.loads(run(os.fspath(out), callback))
     finally:
         if progress is True and sys.stderr.isatty():
             sys.stderr.write("\n")
-    return json.loads(summary)
+
+
+def green_kubo(
+    scene: SceneLike,
+    out: PathLike,
+    *,
+    warmup: float = 5.0,
+    span: float = 100.0,
+    every: int = 5,
+    max_lag: float = 5.0,
+    blocks: int = 10,
+    threads: int = 0,
+    resume: bool = False,
+    force: bool = False,
+    progress: Union[bool, Callable[[Dict[str, Any]], None]] = True,
+) -> Dict[str, Any]:
+    """The Green-Kubo Brownian viscosity of an unsheared Brownian scene (``fluid.kT > 0``,
+    no flow; docs/physics.md section 11), as ``suspflow green-kubo``: runs it from its
+    packing for ``warmup`` Brownian times ``tau_B``, samples the structural Brownian shear
+    stress every ``every`` steps over ``span`` tau_B, and integrates its autocorrelation to
+    the lag ``max_lag`` (tau_B), the error from ``blocks`` consecutive parts. Writes
+    ``scene.toml``, ``green_kubo.csv`` (the correlation and its running integral),
+    ``green_kubo.json`` and ``checkpoint.json`` into the run folder ``out``; ``resume``,
+    ``force``, ``threads`` and ``progress`` as for :func:`simulate` (``resume`` also extends a
+    finished run to a longer ``span``). Returns ``green_kubo.json``'s record:
+    ``eta_brownian_over_eta`` (in units of the fluid viscosity, a part of ``eta_r``) and its
+    standard error ``eta_brownian_over_eta_se``, the extrapolated value, ``tau_b``, ``phi_actual``
+    and ``warnings``."""
+    scene = read_scene(scene)
+    return _run_in_folder(
+        out, resume, force, progress,
+        ("green_kubo.json", "green_kubo.csv"),
+        "an earlier Green-Kubo result; resume=True extends it to a longer span",
+        lambda out, callback: _native.green_kubo(
+            scene, out, warmup, span, every, max_lag, blocks, threads, not resume, callback
+        ),
+    )
+
+
+def generate(
+    grid: PathLike,
+    out: PathLike,
+    *,
+    shard: Optional[tuple] = None,
+    jobs: int = 0,
+    threads: int = 0,
+    work: Optional[PathLike] = None,
+    retry_failed: bool = False,
+    force: bool = False,
+    strict: bool = False,
+    progress: Union[bool, Callable[[tuple], None]] = True,
+) -> Dict[str, Any]:
+    """Runs the scenes of a grid file (every replica as its own run), as ``suspflow
+    generate``: each run in its folder under ``work`` (``<out>.work`` by default), ``jobs``
+    at a time on ``threads`` threads each (0: one run per core, the cores shared), the
+    longest first; finished runs are skipped and interrupted ones resume from their
+    checkpoints, so calling it again continues. After every run it rewrites the dataset
+    ``out`` (one row per bin per finished run, grid order), the run table
+    ``<stem>.scenes.csv`` and, for a whole grid with replicas, the ensemble table
+    ``<stem>.ensemble.csv``. ``shard=(i, n)`` runs part ``i`` of ``n`` disjoint parts of the
+    runs (the parts write no ensemble table; ``suspflow merge`` joins them). Tables not
+    written by this grid are replaced only with ``force``. ``progress``: True prints a line
+    per run as it ends (to standard error), a callable gets ``(label, how, seconds)``.
+    Returns ``{"done", "failed", "pending"}`` counts; raises :class:`SuspflowError` naming the
+    failed runs (``retry_failed=True`` runs them again), KeyboardInterrupt on Ctrl-C."""
+    if progress is True:
+        progress = lambda end: print(  # noqa: E731
+            f"{end[0]}: {end[1]} after {end[2]:.1f} s", file=sys.stderr, flush=True
+        )
+    done, failed, pending = _native.generate(
+        os.fspath(grid),
+        os.fspath(out),
+        None if shard is None else (int(shard[0]), int(shard[1])),
+        jobs,
+        threads,
+        None if work is None else os.fspath(work),
+        retry_failed,
+        force,
+        strict,
+        progress or None,
+    )
+    if pending:
+        raise RunInterrupted(f"{pending} run(s) unfinished; call generate again to continue")
+    if failed:
+        reasons = "\n".join(f"  {label}: {reason}" for label, reason in failed)
+        raise SuspflowError(
+            f"{len(failed)} run(s) failed and are not in the dataset "
+            f"(retry_failed=True runs them again):\n{reasons}"
+        )
+    return {"done": done, "failed": len(failed), "pending": pending}
 
 
 def _table(data: TableLike) -> Union[bytes, str]:
@@ -283,6 +400,83 @@ def validate(
     for c in columns[4:]:
         frame[c] = frame[c].astype(float)
     return frame
+
+
+def cross_validate(
+    data: TableLike,
+    models: PathLike = "models",
+    mappings: Optional[Sequence[str]] = None,
+    *,
+    learning_curve: Sequence[int] = (),
+    draws: int = 3,
+    seed: int = 1,
+    level: float = 0.9,
+) -> Dict[str, Any]:
+    """Leave-one-family-out cross-validation, as ``suspflow cross-validate`` (the mappings
+    named, all four by default): a profile family is every row of one forcing (the
+    ``profile`` column, at least two families). Each fold fits, on the other families'
+    rows, XGBoost alone, the physics backbone alone and backbone + XGBoost, the trees with
+    the hyper-parameters of the models in ``models`` (train first), and measures the
+    relative L2 error of eq 6.6 (a fraction) on the held-out rows, all of them and those
+    inside and outside the fold's training domain. ``learning_curve`` (numbers of training
+    families, each with ``draws`` draws seeded by ``seed``) adds the error against the
+    number of families; the intervals' coverage at ``level`` is measured on the same folds.
+    Returns the record the command writes to ``cv.json``: ``mappings`` (per mapping its
+    ``folds`` and ``summary``), ``learning_curves``, ``intervals``, ``families`` and the
+    data's ``fnv1a_64``."""
+    record = _native.cross_validate(
+        os.fspath(models),
+        _table(data),
+        list(mappings or []),
+        list(learning_curve),
+        draws,
+        seed,
+        level,
+    )
+    return json.loads(record)
+
+
+def flow_curves(
+    grid: PathLike, runs: PathLike, green_kubo: Sequence[PathLike] = ()
+) -> tuple:
+    """The flow curves of a grid of homogeneous-shear scenes (docs/physics.md section 10)
+    that ``suspflow generate`` ran into the work folder ``runs``, as ``suspflow
+    flow-curves``, with the Green-Kubo runs in the folders ``green_kubo`` (replicas of the
+    grid's volume fractions). Returns ``(table, fits)``: ``table`` holds the rows of
+    ``flow_curves.csv``, one per finished run (box totals ``sigma_xy``, ``P`` in ``eta`` /
+    time; ``eta_r``, ``mu``, ``J`` and the parts of ``eta_r``, dimensionless, each with its
+    standard error ``_se``); ``fits`` one row per state (``mu_p``, ``peclet``, ``alpha``,
+    ``rho``) and stress ``convention`` of the jamming law ``eta_r = (1 - phi/phi_J)^-lambda``:
+    ``phi_J``, ``phi_J_se``, ``lambda``, ``lambda_se`` (NaN with the reason in ``error``
+    where the points cannot be fitted). Runs not finished are named in a warning."""
+    table, fits, missing = _native.flow_curves(
+        os.fspath(grid), os.fspath(runs), [os.fspath(g) for g in green_kubo]
+    )
+    if missing:
+        warnings.warn(f"{len(missing)} runs not finished in {runs}: {', '.join(missing)}")
+    rows = [
+        (mu_p, peclet, alpha, rho, convention, *(values or [np.nan] * 4), error)
+        for mu_p, peclet, alpha, rho, convention, values, error in fits
+    ]
+    columns = [
+        "mu_p", "peclet", "alpha", "rho", "convention",
+        "phi_J", "phi_J_se", "lambda", "lambda_se", "error",
+    ]
+    return _exact_table(table), pd.DataFrame(rows, columns=columns)
+
+
+def _exact_table(text: str) -> pd.DataFrame:
+    """A CSV text as a DataFrame with every number exactly the decimal written (Python's
+    float), empty cells NaN, other columns as strings."""
+    lines = list(csv.reader(io.StringIO(text)))
+    columns = {}
+    for j, name in enumerate(lines[0]):
+        cells = [r[j] for r in lines[1:]]
+        try:
+            columns[name] = [np.nan if c == "" else float(c) for c in cells]
+        except ValueError:
+            columns[name] = cells
+    return pd.DataFrame(columns)
 
 
 def read_dataset(path: PathLike) -> pd.DataFrame:

@@ -75,12 +75,65 @@ def simulate(
 ) -> str:
     """Runs `scene` into the run folder `out` (continuing its checkpoint unless `fresh`); returns summary.json's text."""
 
+def generate(
+    grid: str,
+    out: str,
+    shard: Optional[Tuple[int, int]] = None,
+    jobs: int = 0,
+    threads: int = 0,
+    work: Optional[str] = None,
+    retry_failed: bool = False,
+    force: bool = False,
+    strict: bool = False,
+    progress: Optional[Callable[[Tuple[str, str, float]], None]] = None,
+) -> Tuple[int, List[Tuple[str, str]], int]:
+    """Runs a grid (or a shard of it) and writes its tables; returns (done, failed, pending)."""
+
+def green_kubo(
+    scene: Scene,
+    out: str,
+    warmup: float = 5.0,
+    span: float = 100.0,
+    every: int = 5,
+    max_lag: float = 5.0,
+    blocks: int = 10,
+    threads: int = 0,
+    fresh: bool = True,
+    progress: Optional[Callable[[Dict[str, object]], None]] = None,
+) -> str:
+    """Runs the Green-Kubo run of `scene` into `out` (continuing its checkpoint unless `fresh`); returns green_kubo.json's text."""
+
 def predict(dir: str, mapping: str, table: Table, level: float = 0.9) -> Predictions: ...
 def validate(
     dir: str, table: Table, mappings: Sequence[str] = ..., level: float = 0.9
 ) -> List[
     Tuple[str, str, str, float, Optional[float], Optional[float], Optional[float]]
 ]: ...
+def cross_validate(
+    dir: str,
+    table: Table,
+    mappings: Sequence[str] = ...,
+    learning_curve: Sequence[int] = ...,
+    draws: int = 3,
+    seed: int = 1,
+    level: float = 0.9,
+) -> str:
+    """The leave-one-family-out study of `table`; returns cv.json's record as JSON text."""
+
+def flow_curves(
+    grid: str, runs: str, green_kubo: Sequence[str] = ...
+) -> Tuple[
+    str,
+    List[
+        Tuple[
+            float, float, Optional[float], float, str,
+            Optional[Tuple[float, float, float, float]], Optional[str],
+        ]
+    ],
+    List[str],
+]:
+    """flow_curves.csv's text, the jamming-law fits per state and convention, the runs not finished."""
+
 def read_dataset(
     path: str,
 ) -> Tuple[List[Tuple[str, Union[List[float], List[str]]]], Optional[Tuple[str, str]]]: ...

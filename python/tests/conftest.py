@@ -3,7 +3,6 @@ compared with (`SUSPFLOW_BIN`, else the release build under `target/`), and an e
 reader."""
 import csv
 import io
-import math
 import os
 import pathlib
 import subprocess
@@ -42,18 +41,11 @@ def run_suspflow(suspflow_bin):
 
 def exact_csv(text):
     """A CSV text as a DataFrame whose numbers are exactly the decimals written (each cell
-    through Python's float(), empty cells NaN), other columns as strings."""
-    import pandas as pd
+    through Python's float(), empty cells NaN), other columns as strings: the package's own
+    reader of the tables it returns as text."""
+    import suspflow
 
-    rows = list(csv.reader(io.StringIO(text)))
-    columns = {}
-    for j, name in enumerate(rows[0]):
-        cells = [r[j] for r in rows[1:]]
-        try:
-            columns[name] = [math.nan if c == "" else float(c) for c in cells]
-        except ValueError:
-            columns[name] = cells
-    return pd.DataFrame(columns)
+    return suspflow._exact_table(text)
 
 
 def without_code_version(path):

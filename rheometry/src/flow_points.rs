@@ -277,18 +277,20 @@ impl FlowCurveRow {
 
     /// Writes the lines of `points` to `path` (whole).
     pub fn write_all(path: &Path, points: &[FlowPoint]) -> Result<()> {
-        let err = |e: String| RheometryError::File {
+        let bytes = Self::to_csv(points).map_err(|message| RheometryError::File {
             path: path.display().to_string(),
-            message: e,
-        };
+            message,
+        })?;
+        Ok(schema::write_atomic(path, &bytes)?)
+    }
+
+    /// The table of `points` as CSV text, or why it cannot be made.
+    pub fn to_csv(points: &[FlowPoint]) -> std::result::Result<Vec<u8>, String> {
         let mut table = csv::Writer::from_writer(Vec::new());
         for p in points {
-            table
-                .serialize(Self::of(p))
-                .map_err(|e| err(e.to_string()))?;
+            table.serialize(Self::of(p)).map_err(|e| e.to_string())?;
         }
-        let bytes = table.into_inner().map_err(|e| err(e.to_string()))?;
-        Ok(schema::write_atomic(path, &bytes)?)
+        table.into_inner().map_err(|e| e.to_string())
     }
 
     /// The lines of the table at `path`.

@@ -18,14 +18,12 @@
 use crate::plots::flow_curves::{draw_figures, draw_peclet_figure, peclet_figure};
 use crate::report::flow_curves::{summary_text, Command};
 use anyhow::Context;
-use rheometry::{FlowCurveRow, FlowRuns, GreenKuboResult};
+use rheometry::{read_green_kubo_replicas, FlowCurveRow, FlowCurves, FlowRuns};
 use schema::write_atomic;
 use sim::input::grid::Grid;
 use std::path::PathBuf;
 use surrogate::rheology::local_viscosity;
-use surrogate::{
-    keep_green_kubo_at_lowest_peclet, states, volume_fractions, Dataset, StateFits, StatePoint,
-};
+use surrogate::{volume_fractions, Dataset};
 
 /// Centres of the `phi_loc` bands of the local-versus-homogeneous table.
 const LOCAL_BANDS: [f64; 7] = [0.44, 0.46, 0.48, 0.50, 0.52, 0.54, 0.56];
@@ -60,31 +58,16 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, false)?;
     let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow flow-curves`")?;
-    let green_kubo = args
-        .green_kubo
-        .iter()
-        .map(|d| GreenKuboResult::read(d))
-        .collect::<Result<Vec<_>, _>>()?;
-    refuse_repeated_green_kubo(&args.green_kubo, &green_kubo)?;
-    let runs = FlowRuns::read(&grid, &args.runs, &green_kubo)
+    let green_kubo = read_green_kubo_replicas(&args.green_kubo).context("--green-kubo")?;
+    let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
+    let runs = FlowRuns::read(&grid, &args.runs, &results)
         .with_context(|| format!("--runs {}", args.runs.display()))?;
-    if let Some(&k) = runs.unmatched(&green_kubo).first() {
-        let mut phis: Vec<String> = runs
-            .points
-            .iter()
-            .map(|p| format!("{:.4}", p.point.phi_actual))
-            .collect();
-        phis.sort();
-        phis.dedup();
-        anyhow::bail!(
-            "--green-kubo {}: its volume fraction {:.4} is that of no finished run (theirs: {}); \
-             give the Green-Kubo runs of the grid's volume fractions",
-            args.green_kubo[k].display(),
-            green_kubo[k].phi_actual,
-            phis.join(", ")
-        );
-    }
-    let FlowRuns { points, missing } = runs;
+    let FlowCurves {
+        points,
+        missing,
+        curve,
+        fits,
+    } = FlowCurves::fit(runs, &green_kubo).context("--green-kubo")?;
     if !missing.is_empty() {
         eprintln!(
             "warning: {} of {} runs not finished in {} (run `suspflow generate {} --out ... --work {}`): {}",
@@ -96,12 +79,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             missing.join(", ")
         );
     }
-    let mut curve: Vec<StatePoint> = points.iter().map(|p| p.point).collect();
-    keep_green_kubo_at_lowest_peclet(&mut curve);
-    let fits: Vec<StateFits> = states(&curve)
-        .into_iter()
-        .map(|state| StateFits::fit(&curve, state))
-        .collect();
     let local = match &args.local {
         Some(path) => Some(local_viscosity::bands(
             &Dataset::read_csv(path).with_context(|| format!("reading {}", path.display()))?,
@@ -147,25 +124,5 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     write_atomic(&readme, text.as_bytes())?;
     print!("{text}");
     eprintln!("wrote {}", args.out.display());
-    Ok(())
-}
-
-/// Refuses a Green-Kubo folder given twice, or two with the same result (a copied folder):
-/// each would count as a replica, and the spread between replicas, the error, would vanish.
-fn refuse_repeated_green_kubo(dirs: &[PathBuf], results: &[GreenKuboResult]) -> anyhow::Result<()> {
-    for (j, (dir, result)) in dirs.iter().zip(results).enumerate() {
-        let same = |k: usize| {
-            results[k] == *result
-                || std::fs::canonicalize(&dirs[k]).ok() == std::fs::canonicalize(dir).ok()
-        };
-        if let Some(k) = (0..j).find(|&k| same(k)) {
-            anyhow::bail!(
-                "--green-kubo {} and {} are the same run: each replica counts once (the \
-                 error is their spread)",
-                dirs[k].display(),
-                dir.display()
-            );
-        }
-    }
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! `suspflow generate GRID.toml --out FILE.csv`: runs every scene of a grid, every replica
 //! (seed) of a scene as its own run, and writes the dataset (one row per bin per finished
 //! run, docs/physics.md section 8), a table of the runs and, when a scene has replicas, the
-//! ensemble table and its summary (`crate::ensemble_table`).
+//! ensemble table and its summary (`rheometry::sweep_tables`).
 //!
 //! Runs go in parallel, one thread each by default: below 2048 particles the pair loop
 //! is serial (see `sim::forces::force_accumulation`), and the bench shows one scene on two threads
@@ -22,10 +22,11 @@ use crate::ensemble_table;
 use crate::exit_status::Stop;
 use crate::output_guard;
 use anyhow::Context;
+use rheometry::sweep_tables::{run_counts, work_beside, SweepTables};
+use rheometry::EnsembleSummary;
 use sim::input::grid::{Grid, GridRun};
-use sim::run::batch::{cost, Batch, BatchTables};
-use sim::run::run_folder::{RunFolder, RunStatus};
-use std::path::PathBuf;
+use sim::run::batch::{cost, Batch};
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -74,34 +75,6 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     Ok((i, n))
 }
 
-/// Paths of the outputs.
-struct Outputs {
-    dataset: PathBuf,
-    scene_table: PathBuf,
-    /// The ensemble table and summary, when this invocation writes them.
-    ensemble: Option<[PathBuf; 2]>,
-    work: PathBuf,
-}
-
-impl Outputs {
-    fn new(args: &Args, ensemble: bool) -> Outputs {
-        let stem = args.out.with_extension("");
-        let mut table = stem.into_os_string();
-        table.push(".scenes.csv");
-        let work = args.work.clone().unwrap_or_else(|| {
-            let mut w = args.out.clone().into_os_string();
-            w.push(".work");
-            PathBuf::from(w)
-        });
-        Outputs {
-            dataset: args.out.clone(),
-            scene_table: PathBuf::from(table),
-            ensemble: ensemble.then(|| ensemble_table::paths(&args.out)),
-            work,
-        }
-    }
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, args.strict)?;
     let (shard_i, shard_n) = args.shard.unwrap_or((0, 1));
@@ -120,8 +93,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if replicas && shard_n > 1 {
         eprintln!("note: the ensemble table of a grid with replicas is written by `suspflow merge` of the parts");
     }
-    let outputs = Outputs::new(&args, replicas && shard_n == 1);
-    guard_outputs(&outputs, &scenes, args.force)?;
+    let outputs = SweepTables::beside(&args.out, replicas && shard_n == 1);
+    let work = args.work.clone().unwrap_or_else(|| work_beside(&args.out));
+    guard_outputs(&outputs, &work, &scenes, args.force)?;
     if let Some(parent) = outputs
         .dataset
         .parent()
@@ -130,18 +104,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("creating {}", parent.display()))?;
     }
-    std::fs::create_dir_all(&outputs.work)
-        .with_context(|| format!("creating {}", outputs.work.display()))?;
+    std::fs::create_dir_all(&work).with_context(|| format!("creating {}", work.display()))?;
     let _lock = sim::output::file_lock::FileLock::acquire(
-        &outputs.work.join("generate.lock"),
+        &work.join("generate.lock"),
         &outputs.dataset.display().to_string(),
         "`suspflow generate`",
     )?;
-    let cores = std::thread::available_parallelism()
-        .map(|n| n.get())
-        .unwrap_or(1);
     let mut batch = Batch {
-        root: outputs.work.clone(),
+        root: work.clone(),
         runs: scenes.clone(),
         jobs: 1,
         threads: 1,
@@ -150,108 +120,66 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         code_version: crate::CODE_VERSION,
     };
     let todo = batch.prepare()?;
-    batch.jobs = if args.jobs > 0 { args.jobs } else { cores }.clamp(1, todo.len().max(1));
-    batch.threads = if args.threads > 0 {
-        args.threads
-    } else {
-        (cores / batch.jobs).max(1)
-    };
+    batch.share_cores(args.jobs, args.threads, todo.len());
     eprintln!(
         "grid `{}`{}: {} runs of {} scenes, {} already finished or failed; running {} at a time on {} thread(s) each",
         grid.name,
         if shard_n > 1 { format!(" shard {shard_i}/{shard_n}") } else { String::new() },
         scenes.len(), grid.scene_count(), scenes.len() - todo.len(), batch.jobs, batch.threads
     );
-    write_outputs(&outputs, &batch)?;
+    outputs.write(&batch)?;
     crate::interrupt::install()?;
     let watch = crate::progress::BatchBars::new(todo.len(), batch.jobs)?;
     batch.run(todo, &watch, &|| {
         watch.overall.inc(1);
-        write_outputs(&outputs, &batch)
-            .map(drop)
-            .map_err(|e| sim::SimError::Output {
-                path: outputs.dataset.display().to_string(),
-                message: format!("{e:#}"),
-            })
+        outputs.after_run(&batch)
     })?;
     watch.finish();
-    let summary = write_outputs(&outputs, &batch)?;
-    report(&outputs, &batch, summary)
+    let summary = outputs.write(&batch)?;
+    report(&outputs, &work, &batch, summary)
 }
 
 /// Refuses to replace a dataset, run table or ensemble table that this grid did not write:
 /// one counts as the grid's own when the work directory holds a folder of one of its runs.
-fn guard_outputs(outputs: &Outputs, scenes: &[&GridRun], force: bool) -> anyhow::Result<()> {
+fn guard_outputs(
+    outputs: &SweepTables,
+    work: &Path,
+    scenes: &[&GridRun],
+    force: bool,
+) -> anyhow::Result<()> {
     output_guard::out_file(&outputs.dataset)?;
-    let ours = scenes.iter().any(|gs| {
-        RunFolder::in_batch(&outputs.work, &gs.label())
-            .scene_toml()
-            .exists()
-    });
-    if !ours {
+    if !SweepTables::written_by(work, scenes) {
         let what = format!(
             "not written by this grid: {} holds none of its runs",
-            outputs.work.display()
+            work.display()
         );
-        for file in [&outputs.dataset, &outputs.scene_table]
-            .into_iter()
-            .chain(outputs.ensemble.iter().flatten())
-        {
+        for file in outputs.files() {
             output_guard::refuse_unless_force(file, force, &what, "choose another --out")?;
         }
     }
     Ok(())
 }
 
-/// Rewrites the dataset (finished runs in grid order), the run table and, when this
-/// invocation writes one, the ensemble table of the scenes with no run left to do, all
-/// atomically; returns the ensemble's summary when one was written.
-fn write_outputs(
-    outputs: &Outputs,
-    batch: &Batch,
-) -> anyhow::Result<Option<ensemble_table::EnsembleSummary>> {
-    let tables = BatchTables {
-        dataset: outputs.dataset.clone(),
-        run_table: outputs.scene_table.clone(),
-    };
-    let (mut dataset, unfinished) = tables.write(batch)?;
-    let Some(ensemble) = &outputs.ensemble else {
-        return Ok(None);
-    };
-    dataset.runs.retain(|(id, _), _| !unfinished.contains(id));
-    if dataset.runs.is_empty() {
-        for file in ensemble {
-            std::fs::remove_file(file).ok();
-        }
-        return Ok(None);
-    }
-    let ensemble = ensemble_table::build(&outputs.dataset, &dataset)?;
-    Ok(Some(ensemble_table::write_beside(
-        &outputs.dataset,
-        ensemble,
-    )?))
-}
-
 /// Final summary; an error if runs failed or the invocation was interrupted.
 fn report(
-    outputs: &Outputs,
+    outputs: &SweepTables,
+    work: &Path,
     batch: &Batch,
-    ensemble: Option<ensemble_table::EnsembleSummary>,
+    ensemble: Option<EnsembleSummary>,
 ) -> anyhow::Result<()> {
-    let (mut done, mut failed, mut pending) = (0, Vec::new(), 0);
-    for (gs, status) in batch.runs.iter().zip(batch.statuses()) {
-        match status {
-            RunStatus::Done => done += 1,
-            RunStatus::Failed(reason) => failed.push(format!("  {}: {reason}", gs.label())),
-            RunStatus::Pending => pending += 1,
-        }
-    }
+    let counts = run_counts(batch);
+    let (done, pending) = (counts.done, counts.pending);
+    let failed: Vec<String> = counts
+        .failed
+        .iter()
+        .map(|(label, reason)| format!("  {label}: {reason}"))
+        .collect();
     let rows = schema::RunTable::read(&outputs.dataset)?.rows();
     println!(
         "dataset: {} ({rows} rows from {done} runs)",
         outputs.dataset.display()
     );
-    println!("runs:    {}", outputs.scene_table.display());
+    println!("runs:    {}", outputs.run_table.display());
     if let (Some([table, json]), Some(summary)) = (&outputs.ensemble, &ensemble) {
         println!(
             "ensemble: {} (summary {}): per observable, the between-replica standard error \
@@ -265,7 +193,7 @@ fn report(
         return Err(Stop::Interrupted(format!(
             "interrupted with {pending} run(s) unfinished (state saved in {}); run the same \
              command again to continue",
-            outputs.work.display()
+            work.display()
         ))
         .into());
     }

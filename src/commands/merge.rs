@@ -5,6 +5,7 @@
 //! replaced as the output is.
 use crate::ensemble_table;
 use anyhow::bail;
+use rheometry::sweep_tables::{build_ensemble_of, ensemble_paths, write_ensemble_beside};
 use schema::RunTable;
 use std::path::PathBuf;
 
@@ -28,7 +29,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.out.display()
         );
     }
-    let [table, json] = ensemble_table::paths(&args.out);
+    let [table, json] = ensemble_paths(&args.out);
     crate::output_guard::refuse_any_unless_force(
         &[args.out.clone(), table, json],
         args.force,
@@ -48,7 +49,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // Everything is checked before anything is written: a failed merge leaves no output.
     let ensemble = merged
         .has_replicas()
-        .then(|| ensemble_table::build(&args.out, &merged))
+        .then(|| build_ensemble_of(&args.out, &merged))
         .transpose()?;
     schema::write_atomic(&args.out, text.as_bytes())?;
     println!(
@@ -60,8 +61,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.parts.len()
     );
     if let Some(ensemble) = ensemble {
-        let summary = ensemble_table::write_beside(&args.out, ensemble)?;
-        let [table, json] = ensemble_table::paths(&args.out);
+        let summary = write_ensemble_beside(&args.out, ensemble)?;
+        let [table, json] = ensemble_paths(&args.out);
         println!(
             "ensemble: {} (summary {})\n{}",
             table.display(),

@@ -107,10 +107,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         // --out, whatever the directory train ran in (ModelMeta::training_file).
         samples.source_name = ModelMeta::recorded_source(&args.data, &args.out);
         let params = if args.no_tune {
-            remove_stale_tuning(&args.out, mapping)?;
+            Tuning::remove_stale(&args.out, mapping.name)?;
             HyperParameters::default()
         } else if let Some(dir) = &args.params_from {
-            remove_stale_tuning(&args.out, mapping)?;
+            Tuning::remove_stale(&args.out, mapping.name)?;
             ModelMeta::load_params(dir, mapping.name)
                 .with_context(|| format!("--params-from {}", dir.display()))?
         } else {
@@ -292,16 +292,4 @@ fn with_intervals(
     let trees = model.fit_quantile_trees(samples, params)?;
     let model = model.with_intervals(trees, study.calibration.clone())?;
     Ok((model, Some(study)))
-}
-
-/// Removes `<out>/<mapping>.tuning.json` left by an earlier tuned run: it would describe a
-/// choice the new model does not use.
-fn remove_stale_tuning(out: &std::path::Path, mapping: &Mapping) -> anyhow::Result<()> {
-    let path = Tuning::path(out, mapping.name);
-    match std::fs::remove_file(&path) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-            Err(e).with_context(|| format!("removing the stale {}", path.display()))
-        }
-        _ => Ok(()),
-    }
 }

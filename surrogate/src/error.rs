@@ -150,6 +150,13 @@ pub enum SurrogateError {
     /// sidecar records.
     #[error("{} is not the file model `{model}` was trained on (its hash differs)", path.display())]
     NotTrainingData { path: PathBuf, model: String },
+
+    /// An error met while doing `what` (e.g. "cross-validating `mu`").
+    #[error("{what}: {source}")]
+    Within {
+        what: String,
+        source: Box<SurrogateError>,
+    },
 }
 
 /// How the list of names `found` differs from `expected`: the names missing from it, those

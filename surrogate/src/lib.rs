@@ -71,6 +71,7 @@ pub use validation::cross_validation::{
 pub use validation::family_cv::{
     FamilyCv, FoldErrors, MeanErrors, RowErrors, Variant, VariantErrors, VariantSummary,
 };
+pub use validation::family_cv_study::{CvProgress, CvSettings, FamilyCvStudy};
 pub use validation::family_folds::{
     family_names, leave_one_family_out, tuning_folds, FamilyFold, LeftOut, MIN_TUNING_FAMILIES,
 };

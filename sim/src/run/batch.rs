@@ -91,6 +91,21 @@ impl<'a> Batch<'a> {
         Ok(todo)
     }
 
+    /// Sets how the cores are shared for `todo` runs to do: `jobs` runs at a time (0 = one
+    /// per core), at most one per run, on `threads` threads each (0 = the cores over the
+    /// runs at a time, at least 1).
+    pub fn share_cores(&mut self, jobs: usize, threads: usize, todo: usize) {
+        let cores = std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1);
+        self.jobs = if jobs > 0 { jobs } else { cores }.clamp(1, todo.max(1));
+        self.threads = if threads > 0 {
+            threads
+        } else {
+            (cores / self.jobs).max(1)
+        };
+    }
+
     /// Runs `todo` (from [`Batch::prepare`]), calling `after_run` after each (to rewrite
     /// the batch's tables, say); the first error of a folder or of `after_run` stops the
     /// batch and is returned. An interrupt stops every run with its checkpoint.

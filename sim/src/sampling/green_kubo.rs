@@ -10,10 +10,12 @@ use serde::Serialize;
 
 /// The xy component of the structural Brownian stress of the whole box (units energy /
 /// volume, positive in compression like the pair stresslets): `sum of w n_x n_y / V` over
-/// the pairs in the shell ([`brownian_shell::weight`]).
+/// the pairs in the shell ([`brownian_shell::weight`]); 0 without thermal noise.
 pub fn shell_shear_stress(sim: &Simulation) -> f64 {
+    let Some(kt) = sim.kt() else {
+        return 0.0;
+    };
     let p = &sim.particles;
-    let kt = sim.field.kt;
     let mut sum = 0.0;
     for i in 0..p.len() {
         for q in sim.list.start[i]..sim.list.start[i + 1] {

@@ -226,12 +226,10 @@ fn accumulate_pairs(sim: &Simulation, bins: &Bins, out: &mut [f64]) {
             };
             let s = o.load.stresslet(&o.r);
             let contact = -o.contact_force * o.r.transpose();
-            let brownian = if sim.field.kt > 0.0 {
-                brownian_shell::weight(sim.field.kt, p.radius[i], p.radius[j], o.r.norm())
-                    .map(|w| w * o.n * o.n.transpose())
-            } else {
-                None
-            };
+            let brownian = sim
+                .kt()
+                .and_then(|kt| brownian_shell::weight(kt, p.radius[i], p.radius[j], o.r.norm()))
+                .map(|w| w * o.n * o.n.transpose());
             let y_i = p.pos[i].y;
             bins.share_segment(y_i, o.r.y, |k, frac| {
                 add_tensor(out, nb, SXX, k, frac, &s);

@@ -8,6 +8,7 @@ pub mod baselines;
 pub mod comparison;
 pub mod cross_validation;
 pub mod family_cv;
+pub mod family_cv_study;
 pub mod family_folds;
 pub mod family_learning_curve;
 pub mod interval_calibration;

@@ -128,6 +128,19 @@ impl Tuning {
     pub fn path(dir: &Path, name: &str) -> PathBuf {
         dir.join(format!("{name}.tuning.json"))
     }
+
+    /// Removes `<dir>/<name>.tuning.json` left by an earlier tuned run, when a model is
+    /// trained without tuning: the record would describe a choice the new model does not
+    /// use. No record is no error.
+    pub fn remove_stale(dir: &Path, name: &str) -> Result<()> {
+        let path = Self::path(dir, name);
+        match std::fs::remove_file(&path) {
+            Err(source) if source.kind() != std::io::ErrorKind::NotFound => {
+                Err(crate::error::SurrogateError::Io { path, source })
+            }
+            _ => Ok(()),
+        }
+    }
 }
 
 /// The record's account of how the folds were made and scored.

@@ -1,0 +1,57 @@
+//! `flow_curves`: the flow curves of a grid of homogeneous-shear runs that `generate` ran,
+//! as `suspflow flow-curves` computes them (`rheometry::FlowCurves`): the table of the
+//! finished runs (`flow_curves.csv`'s text) and the jamming law fitted per state and stress
+//! convention.
+use crate::error::Error;
+use pyo3::prelude::*;
+use rheometry::{read_green_kubo_replicas, FlowCurveRow, FlowCurves, FlowRuns};
+use sim::input::grid::Grid;
+use std::path::PathBuf;
+use surrogate::CONVENTIONS;
+
+/// One fit of the jamming law `eta_r = (1 - phi/phi_J)^(-lambda)`: the state (mu_p, peclet,
+/// alpha, rho), the stress convention, phi_J and its standard error, lambda and its standard
+/// error (`None` where the points could not be fitted), and why not.
+type FitRecord = (
+    f64,
+    f64,
+    Option<f64>,
+    f64,
+    &'static str,
+    Option<[f64; 4]>,
+    Option<String>,
+);
+
+/// The flow curves of the grid file `grid` run into the batch folder `runs`, with the
+/// Green-Kubo runs in the folders `green_kubo`: `flow_curves.csv`'s text, the fits, and the
+/// labels of the runs not finished.
+#[pyfunction]
+#[pyo3(signature = (grid, runs, green_kubo = Vec::new()))]
+pub fn flow_curves(
+    grid: PathBuf,
+    runs: PathBuf,
+    green_kubo: Vec<PathBuf>,
+) -> Result<(String, Vec<FitRecord>, Vec<String>), Error> {
+    let grid = Grid::from_path(&grid, false)?;
+    let green_kubo = read_green_kubo_replicas(&green_kubo)?;
+    let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
+    let found = FlowRuns::read(&grid, &runs, &results)?;
+    let curves = FlowCurves::fit(found, &green_kubo)?;
+    let table = FlowCurveRow::to_csv(&curves.points).map_err(Error::from)?;
+    let mut fits = Vec::new();
+    for f in &curves.fits {
+        let s = f.state;
+        for ((convention, _), fit) in CONVENTIONS.iter().zip(&f.fits) {
+            let (values, why) = match fit {
+                Ok(j) => (
+                    Some([j.all.phi_j, j.phi_j_se, j.all.lambda, j.lambda_se]),
+                    None,
+                ),
+                Err(e) => (None, Some(e.to_string())),
+            };
+            fits.push((s.mu_p, s.peclet, s.alpha, s.rho, *convention, values, why));
+        }
+    }
+    let table = String::from_utf8(table).map_err(|e| Error::from(e.to_string()))?;
+    Ok((table, fits, curves.missing))
+}

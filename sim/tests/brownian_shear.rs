@@ -115,7 +115,10 @@ fn the_brownian_step_follows_the_thermal_time_scales() {
     // 11.7 rotational relaxation times, 0.39x the step without kT.
     let light_pe100 = step(0.05, "shear_rate = 0.01, peclet = 100.0", "");
     assert_eq!(light_pe100.limit, DtLimit::Relaxation, "{light_pe100:?}");
-    assert!(close(light_pe100.dt, light.dt * 100.0 / 3.0), "{light_pe100:?}");
+    assert!(
+        close(light_pe100.dt, light.dt * 100.0 / 3.0),
+        "{light_pe100:?}"
+    );
     // The sharp cut: lambda = X11A(0.05) / m_red + 6 pi eta a / m for the 1 : 1 pair.
     let sharp = step(0.5, &format!("kT = {kt}"), "forces = { xi_taper = 0.0 }");
     assert_eq!(sharp.limit, DtLimit::Cutoff, "{sharp:?}");

@@ -16,8 +16,8 @@
 use anyhow::Context;
 use std::path::PathBuf;
 use surrogate::{
-    CurveCost, CvProgress, CvSettings, Dataset, FamilyCvStudy, HyperParameters, Mapping,
-    Samples, TrainedModel,
+    CurveCost, CvProgress, CvSettings, Dataset, FamilyCvStudy, HyperParameters, Mapping, Samples,
+    TrainedModel,
 };
 
 use crate::report::cross_validation::markdown;

@@ -10,6 +10,34 @@ fn frame_steps(text: &str) -> Vec<u64> {
         .collect()
 }
 
+/// Resumes the run with `tiny`'s scene at twice the snapshots (blocks in proportion) and
+/// checks that the frames, as `steps` reads them, continue `first` in order with none
+/// twice; then removes `dir`.
+fn resume_longer(
+    dir: &std::path::Path,
+    tiny: &str,
+    run: &dyn Fn(&std::path::Path, bool) -> std::process::Output,
+    first: &[u64],
+    steps: impl Fn() -> Vec<u64>,
+) {
+    let longer = scene_file(
+        dir,
+        "longer",
+        &tiny
+            .replace("snapshots = 40", "snapshots = 80")
+            .replace("blocks = 4", "blocks = 8"),
+    );
+    assert_ok(&run(&longer, true));
+    let steps = steps();
+    assert!(steps.len() > first.len(), "{steps:?}");
+    assert!(
+        steps.windows(2).all(|w| w[0] < w[1]),
+        "frames out of order after resume: {steps:?}"
+    );
+    assert_eq!(steps[..first.len()], first[..]);
+    std::fs::remove_dir_all(dir).ok();
+}
+
 /// A run killed after its last checkpoint had written frames the resumed run writes again:
 /// the resumed run cuts them, so that time never runs backwards and no frame is there twice
 /// (before: appended after them, steps 16..20 twice). The kill is mimicked by appending the
@@ -37,22 +65,9 @@ fn frames_written_after_the_checkpoint_are_not_kept_twice_on_resume() {
     let tail = lines[lines.len() - 2 * per_frame..].join("\n") + "\n";
     std::fs::write(&frames, text.clone() + &tail).unwrap();
     // The same scene, twice the snapshots (blocks in proportion): continues the run.
-    let longer = scene_file(
-        &dir,
-        "longer",
-        &tiny
-            .replace("snapshots = 40", "snapshots = 80")
-            .replace("blocks = 4", "blocks = 8"),
-    );
-    assert_ok(&run(&longer, true));
-    let steps = frame_steps(&std::fs::read_to_string(&frames).unwrap());
-    assert!(steps.len() > first.len(), "{steps:?}");
-    assert!(
-        steps.windows(2).all(|w| w[0] < w[1]),
-        "frames out of order after resume: {steps:?}"
-    );
-    assert_eq!(steps[..first.len()], first[..]);
-    std::fs::remove_dir_all(&dir).ok();
+    resume_longer(&dir, &tiny, &run, &first, || {
+        frame_steps(&std::fs::read_to_string(&frames).unwrap())
+    });
 }
 
 /// The `configuration/step` of every frame of a GSD file, read from its index (GSD file
@@ -111,22 +126,9 @@ fn gsd_frames_written_after_the_checkpoint_are_not_kept_twice_on_resume() {
     }
     let killed = gsd_frame_steps(&std::fs::read(&frames).unwrap());
     assert_eq!(killed.len(), first.len() + 2);
-    let longer = scene_file(
-        &dir,
-        "longer",
-        &tiny
-            .replace("snapshots = 40", "snapshots = 80")
-            .replace("blocks = 4", "blocks = 8"),
-    );
-    assert_ok(&run(&longer, true));
-    let steps = gsd_frame_steps(&std::fs::read(&frames).unwrap());
-    assert!(steps.len() > first.len(), "{steps:?}");
-    assert!(
-        steps.windows(2).all(|w| w[0] < w[1]),
-        "frames out of order after resume: {steps:?}"
-    );
-    assert_eq!(steps[..first.len()], first[..]);
-    std::fs::remove_dir_all(&dir).ok();
+    resume_longer(&dir, &tiny, &run, &first, || {
+        gsd_frame_steps(&std::fs::read(&frames).unwrap())
+    });
 }
 
 /// A resumed run whose `frames.gsd` is not a GSD file (overwritten, truncated) is refused

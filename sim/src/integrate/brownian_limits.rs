@@ -55,12 +55,12 @@ pub struct BrownianLimits {
 }
 
 /// The Peclet number from which the Brownian limits of a homogeneous shear grow with `Pe`.
-/// Sheared at Pe 4.6, phi 0.55 (shipped units, two seeds): steps of 3 and 1.6 rotational
-/// relaxation times put the hydrodynamic part of eta_r 15.7 +- 1.8 and 10.0 +- 1.7 % above
-/// a ninth of the latter; a third of it (0.54 relaxation times, the step this onset gives)
-/// 0.8 +- 1.7 %. At Pe 100, 3 relaxation times agreed with 1 within 0.5 +- 0.7 %: at a
+/// Sheared at Pe 4.6, phi 0.55 (shipped units, two and three seeds): steps of 3 and 1.6
+/// rotational relaxation times put the hydrodynamic part of eta_r 15.7 +- 1.8 and 9.7 +-
+/// 1.3 % above a ninth of the latter; a third of it (0.54 relaxation times, the step this
+/// onset gives) 1.1 +- 1.3 %. At Pe 100, 3 relaxation times agreed with 1 within 0.5 +- 0.7 %: at a
 /// fixed step the error falls about as `1 / Pe`. Not enough at phi 0.45 and Pe 4.6, where
-/// the hydrodynamic part still reads 8.6 +- 2.8 % above a third of this onset's step (two
+/// the hydrodynamic part still reads 7.4 +- 2.3 % above a third of this onset's step (three
 /// seeds; docs/physics.md section 11).
 pub const PECLET_ONSET: f64 = 3.0;
 

@@ -137,10 +137,16 @@ pub fn checked_cost(
     scene: &Scene,
     settings: &BenchSettings,
 ) -> Result<(RunCost, Option<String>), SimError> {
-    let cost = cost(scene, settings);
-    let warning = cost
-        .check_levers("shorten the timed window or the warm-up, or lower the particle number")
-        .map_err(SimError::Benchmark)?;
+    checked(
+        cost(scene, settings),
+        "shorten the timed window or the warm-up, or lower the particle number",
+    )
+}
+
+/// The check behind both benches' `checked_cost`: `cost` with its warning, or its refusal;
+/// `levers` says what to shorten.
+pub(crate) fn checked(cost: RunCost, levers: &str) -> Result<(RunCost, Option<String>), SimError> {
+    let warning = cost.check_levers(levers).map_err(SimError::Benchmark)?;
     Ok((cost, warning))
 }
 

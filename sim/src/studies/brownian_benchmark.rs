@@ -95,11 +95,10 @@ pub fn checked_cost(
     scene: &Scene,
     settings: &BrownianBenchSettings,
 ) -> Result<(RunCost, Option<String>), SimError> {
-    let cost = cost(scene, settings);
-    let warning = cost
-        .check_levers("shorten the warm-up or the window (in tau_B), or lower the particle number")
-        .map_err(SimError::Benchmark)?;
-    Ok((cost, warning))
+    crate::studies::benchmark::checked(
+        cost(scene, settings),
+        "shorten the warm-up or the window (in tau_B), or lower the particle number",
+    )
 }
 
 /// Times the window of `settings` on `scene` (a [`brownian_scene`]) after the warm-up, on

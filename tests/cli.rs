@@ -792,6 +792,45 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
         !readme.contains("| mu_p = 0, Pe = 1.000e3 | hydrodynamic + drag"),
         "{readme}"
     );
+    // Issue 54: the figures drawn again from the table alone (no runs) are those drawn from
+    // the runs, to the byte: the table reads back every number the figures and fits use.
+    let redrawn = run.dir.join("redrawn");
+    let table = with_gk.join("flow_curves.csv");
+    let mut again: Vec<&str> = args.iter().map(String::as_str).collect();
+    let runs_at = again.iter().position(|a| *a == "--runs").unwrap();
+    again.splice(runs_at..runs_at + 2, ["--table", table.to_str().unwrap()]);
+    let out_at = again.iter().position(|a| *a == "--out").unwrap();
+    again[out_at + 1] = redrawn.to_str().unwrap();
+    assert_ok(&suspflow(&again));
+    let mut figures: Vec<String> = std::fs::read_dir(&redrawn)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name != "run.lock")
+        .collect();
+    figures.sort();
+    // eta_r, mu_J and one eta_r(Pe) per volume fraction, each as SVG and CSV; no README.
+    assert_eq!(figures.len(), 2 * (2 + phis.len()), "{figures:?}");
+    for name in &figures {
+        assert_eq!(
+            std::fs::read(redrawn.join(name)).unwrap(),
+            std::fs::read(with_gk.join(name)).unwrap(),
+            "{name}"
+        );
+    }
+    // The table of another grid is refused, naming the scene the grid lacks.
+    let refused = suspflow(&[
+        "flow-curves",
+        "tests/grids/tiny_shear.toml",
+        "--table",
+        table.to_str().unwrap(),
+        "--out",
+        run.dir.join("other").to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && stderr.contains("which grid `tiny_shear` does not have"),
+        "{stderr}"
+    );
     std::fs::remove_dir_all(&run.dir).ok();
 }
 

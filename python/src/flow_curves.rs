@@ -37,7 +37,7 @@ pub fn flow_curves(
     let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
     let found = FlowRuns::read(&grid, &runs, &results)?;
     let curves = FlowCurves::fit(found, &green_kubo)?;
-    let table = FlowCurveRow::to_csv(&curves.points).map_err(Error::from)?;
+    let table = FlowCurveRow::to_csv(&curves.rows).map_err(Error::from)?;
     let mut fits = Vec::new();
     for f in &curves.fits {
         let s = f.state;

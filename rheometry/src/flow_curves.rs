@@ -1,18 +1,21 @@
 //! The flow curves of a grid of homogeneous-shear runs (docs/physics.md sections 10 and
-//! 11): the finished runs' points ([`FlowRuns`]) with the Green-Kubo replicas of the grid's
-//! volume fractions, the curve fitted (the Green-Kubo estimate kept at each curve's lowest
+//! 11): the finished runs' points ([`FlowRuns`]), or the table written of them earlier,
+//! with the Green-Kubo replicas of the grid's volume fractions, the curve fitted (the Green-Kubo estimate kept at each curve's lowest
 //! Peclet number) and the jamming law's fits per state `(mu_p, Pe)` (`surrogate::StateFits`).
 //! The command and Python render them.
 use crate::error::{Result, RheometryError};
-use crate::flow_points::{FlowPoint, FlowRuns};
+use crate::flow_points::{replicas, FlowCurveRow, FlowRuns};
 use crate::green_kubo::GreenKuboResult;
+use sim::input::grid::Grid;
 use std::path::{Path, PathBuf};
-use surrogate::{keep_green_kubo_at_lowest_peclet, states, StateFits, StatePoint};
+use surrogate::{
+    green_kubo_matches, keep_green_kubo_at_lowest_peclet, states, StateFits, StatePoint,
+};
 
 /// The flow curves of the finished runs of a grid.
 pub struct FlowCurves {
-    /// Each finished run's point, in grid order.
-    pub points: Vec<FlowPoint>,
+    /// Each finished run's line of `flow_curves.csv`, in grid order.
+    pub rows: Vec<FlowCurveRow>,
     /// Labels of the grid's runs not finished.
     pub missing: Vec<String>,
     /// The points fitted.
@@ -25,34 +28,86 @@ impl FlowCurves {
     /// The curves of `runs`, with the Green-Kubo results `green_kubo` (replicas of the grid's
     /// volume fractions). Refuses a result whose volume fraction is that of no finished run.
     pub fn fit(runs: FlowRuns, green_kubo: &[(PathBuf, GreenKuboResult)]) -> Result<Self> {
+        let FlowRuns { points, missing } = runs;
+        let rows = points.iter().map(FlowCurveRow::of).collect();
+        let curve = points.iter().map(|p| p.point).collect();
+        Self::assemble(rows, missing, curve, green_kubo)
+    }
+
+    /// The curves of the table `table` written earlier (`flow_curves.csv`) for the runs of
+    /// `grid`, with the Green-Kubo results `green_kubo`: the same curves and fits as from
+    /// the runs themselves, without them. Refuses a line of a scene that is not the grid's,
+    /// and Green-Kubo results as [`Self::fit`] does.
+    pub fn from_table(
+        grid: &Grid,
+        table: &Path,
+        green_kubo: &[(PathBuf, GreenKuboResult)],
+    ) -> Result<Self> {
+        let rows = FlowCurveRow::read_all(table)?;
         let results: Vec<GreenKuboResult> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
-        if let Some(&k) = runs.unmatched(&results).first() {
-            let mut phis: Vec<String> = runs
-                .points
+        let replicas = replicas(&results);
+        let curve = rows
+            .iter()
+            .map(|row| {
+                let gs = grid.runs.iter().find(|gs| gs.id == row.scene_id);
+                gs.map(|gs| row.point(gs, &replicas))
+                    .ok_or_else(|| RheometryError::File {
+                        path: table.display().to_string(),
+                        message: format!(
+                            "holds scene {}, which grid `{}` does not have: give the grid the \
+                             table was made of",
+                            row.scene_id, grid.name
+                        ),
+                    })
+            })
+            .collect::<Result<_>>()?;
+        let missing = grid
+            .runs
+            .iter()
+            .filter(|gs| !rows.iter().any(|row| row.scene_id == gs.id))
+            .map(|gs| gs.label())
+            .collect();
+        Self::assemble(rows, missing, curve, green_kubo)
+    }
+
+    /// The curves of the points `curve` (lines `rows`): the Green-Kubo viscosity kept at each
+    /// curve's lowest Peclet number and the jamming law fitted per state. Refuses a
+    /// Green-Kubo result whose volume fraction is that of no point.
+    fn assemble(
+        rows: Vec<FlowCurveRow>,
+        missing: Vec<String>,
+        mut curve: Vec<StatePoint>,
+        green_kubo: &[(PathBuf, GreenKuboResult)],
+    ) -> Result<Self> {
+        let unmatched = green_kubo.iter().find(|(_, g)| {
+            !curve
                 .iter()
-                .map(|p| format!("{:.4}", p.point.phi_actual))
+                .any(|p| green_kubo_matches(g.phi_actual, p.phi_actual))
+        });
+        if let Some((path, result)) = unmatched {
+            let mut phis: Vec<String> = curve
+                .iter()
+                .map(|p| format!("{:.4}", p.phi_actual))
                 .collect();
             phis.sort();
             phis.dedup();
             return Err(RheometryError::File {
-                path: green_kubo[k].0.display().to_string(),
+                path: path.display().to_string(),
                 message: format!(
                     "its volume fraction {:.4} is that of no finished run (theirs: {}); give \
                      the Green-Kubo runs of the grid's volume fractions",
-                    results[k].phi_actual,
+                    result.phi_actual,
                     phis.join(", ")
                 ),
             });
         }
-        let FlowRuns { points, missing } = runs;
-        let mut curve: Vec<StatePoint> = points.iter().map(|p| p.point).collect();
         keep_green_kubo_at_lowest_peclet(&mut curve);
         let fits = states(&curve)
             .into_iter()
             .map(|state| StateFits::fit(&curve, state))
             .collect();
         Ok(FlowCurves {
-            points,
+            rows,
             missing,
             curve,
             fits,

@@ -6,16 +6,14 @@
 use crate::error::{Result, RheometryError};
 use crate::green_kubo::GreenKuboResult;
 use serde::{Deserialize, Serialize};
-use sim::input::grid::Grid;
+use sim::input::grid::{Grid, GridRun};
 use sim::output::result_files::RESULTS;
 use sim::output::run_summary::RunSummary;
 use sim::run::run_folder::{Recorded, RunFolder, RunStatus};
 use sim::sampling::block_sums::Estimate;
 use sim::sampling::shear_rheology::ShearRheology;
 use std::path::Path;
-use surrogate::{
-    bin_viscosity, green_kubo_at, green_kubo_matches, part_viscosity, Dataset, State, StatePoint,
-};
+use surrogate::{bin_viscosity, green_kubo_at, part_viscosity, Dataset, State, StatePoint};
 
 /// The parts of `eta_r` the table and figures show: name in `flow_curves.csv`, legend, and
 /// the stress part (`schema::columns::STRESS_PARTS`) it is `-sigma_xy / (eta gdot)` of.
@@ -64,16 +62,7 @@ impl FlowRuns {
                 message: "is not a folder of runs (the folder in which the grid was run)".into(),
             });
         }
-        let replicas: Vec<(f64, f64, f64)> = green_kubo
-            .iter()
-            .map(|g| {
-                (
-                    g.phi_actual,
-                    g.extrapolated_eta_brownian_over_eta,
-                    g.extrapolated_eta_brownian_over_eta_se,
-                )
-            })
-            .collect();
+        let replicas = replicas(green_kubo);
         let mut found = FlowRuns {
             points: Vec::new(),
             missing: Vec::new(),
@@ -119,21 +108,11 @@ impl FlowRuns {
                         part_viscosity(e.mean, e.se, eta_gdot)
                     })
             });
-            let state = State {
-                mu_p: gs.scene.file.forces.mu_p,
-                peclet: gs
-                    .scene
-                    .thermal
-                    .and_then(|t| t.peclet)
-                    .unwrap_or(f64::INFINITY),
-                alpha: gs.scene.file.particles.mixture.as_ref().map(|m| m.alpha),
-                rho: gs.scene.rho,
-            };
             let estimate = |e: Estimate| (e.mean, e.se);
             found.points.push(FlowPoint {
                 id: gs.id.clone(),
                 point: StatePoint {
-                    state,
+                    state: state_of(gs),
                     phi: gs.scene.file.particles.phi,
                     seed: gs.scene.file.seed,
                     phi_actual: summary.phi_actual,
@@ -163,30 +142,53 @@ impl FlowRuns {
         }
         Ok(found)
     }
+}
 
-    /// Those of `green_kubo` (by index) whose volume fraction is that of no finished run:
-    /// results that no point would use.
-    pub fn unmatched(&self, green_kubo: &[GreenKuboResult]) -> Vec<usize> {
-        (0..green_kubo.len())
-            .filter(|&k| {
-                !self
-                    .points
-                    .iter()
-                    .any(|p| green_kubo_matches(green_kubo[k].phi_actual, p.point.phi_actual))
-            })
-            .collect()
+/// The state `(mu_p, Pe, alpha, rho)` of the grid's scene `gs`: what names its curve.
+pub(crate) fn state_of(gs: &GridRun) -> State {
+    State {
+        mu_p: gs.scene.file.forces.mu_p,
+        peclet: gs
+            .scene
+            .thermal
+            .and_then(|t| t.peclet)
+            .unwrap_or(f64::INFINITY),
+        alpha: gs.scene.file.particles.mixture.as_ref().map(|m| m.alpha),
+        rho: gs.scene.rho,
     }
+}
+
+/// The Green-Kubo results as `(phi_actual, eta_B / eta, its standard error)`, the
+/// extrapolated viscosity of each: what `surrogate::green_kubo_at` averages at a point.
+pub(crate) fn replicas(green_kubo: &[GreenKuboResult]) -> Vec<(f64, f64, f64)> {
+    green_kubo
+        .iter()
+        .map(|g| {
+            (
+                g.phi_actual,
+                g.extrapolated_eta_brownian_over_eta,
+                g.extrapolated_eta_brownian_over_eta_se,
+            )
+        })
+        .collect()
 }
 
 /// One run's line of `flow_curves.csv`: the run, its box totals (mean and standard error),
 /// `eta_r` of its bins and of each of [`PARTS`], and a mixture's composition (empty for
 /// other scenes).
+///
+/// Tables written before a column existed still read back: the columns added since the first
+/// tables (the state, the parts, the composition, the density) are NaN, or none, where they
+/// are missing, and the state of a redrawn point comes from its grid ([`FlowCurveRow::point`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FlowCurveRow {
     pub scene_id: String,
+    #[serde(default = "not_recorded")]
     pub phi: f64,
     /// Infinite without Brownian forces.
+    #[serde(default = "not_recorded")]
     pub peclet: f64,
+    #[serde(default = "not_recorded")]
     pub mu_p: f64,
     pub seed: u64,
     pub n_particles: usize,
@@ -194,7 +196,7 @@ pub struct FlowCurveRow {
     pub strain_to_steady: f64,
     pub mean_overlap: f64,
     pub shear_rate: f64,
-    #[serde(rename = "kT")]
+    #[serde(rename = "kT", default = "not_recorded")]
     pub kt: f64,
     pub sigma_xy: f64,
     pub sigma_xy_se: f64,
@@ -212,20 +214,39 @@ pub struct FlowCurveRow {
     pub j_se: f64,
     pub eta_r_bins: f64,
     pub eta_r_bins_se: f64,
+    #[serde(default = "not_recorded")]
     pub eta_r_contact: f64,
+    #[serde(default = "not_recorded")]
     pub eta_r_contact_se: f64,
+    #[serde(default = "not_recorded")]
     pub eta_r_hydrodynamic: f64,
+    #[serde(default = "not_recorded")]
     pub eta_r_hydrodynamic_se: f64,
+    #[serde(default = "not_recorded")]
     pub eta_r_drag: f64,
+    #[serde(default = "not_recorded")]
     pub eta_r_drag_se: f64,
+    #[serde(default = "not_recorded")]
     pub eta_r_brownian: f64,
+    #[serde(default = "not_recorded")]
     pub eta_r_brownian_se: f64,
+    #[serde(default)]
     pub alpha: Option<f64>,
+    #[serde(default)]
     pub alpha_actual: Option<f64>,
+    #[serde(default)]
     pub peclet_c: Option<f64>,
+    #[serde(default)]
     pub peclet_cg: Option<f64>,
+    #[serde(default = "not_recorded")]
     pub rho: f64,
+    #[serde(default)]
     pub tau_i_over_tau_b: Option<f64>,
+}
+
+/// A value of a column that an older table lacks.
+fn not_recorded() -> f64 {
+    f64::NAN
 }
 
 impl FlowCurveRow {
@@ -275,20 +296,43 @@ impl FlowCurveRow {
         }
     }
 
-    /// Writes the lines of `points` to `path` (whole).
-    pub fn write_all(path: &Path, points: &[FlowPoint]) -> Result<()> {
-        let bytes = Self::to_csv(points).map_err(|message| RheometryError::File {
+    /// The point of this line, a run of the grid's scene `gs`, with the Green-Kubo viscosity
+    /// of `replicas` ([`replicas`]) at its volume fraction: the inverse of [`Self::of`] on
+    /// what the flow curves fit and draw, the state taken from the grid.
+    pub fn point(&self, gs: &GridRun, replicas: &[(f64, f64, f64)]) -> StatePoint {
+        StatePoint {
+            state: state_of(gs),
+            phi: gs.scene.file.particles.phi,
+            seed: gs.scene.file.seed,
+            phi_actual: self.phi_actual,
+            eta_r: (self.eta_r, self.eta_r_se),
+            eta_r_bins: (self.eta_r_bins, self.eta_r_bins_se),
+            parts: [
+                (self.eta_r_contact, self.eta_r_contact_se),
+                (self.eta_r_hydrodynamic, self.eta_r_hydrodynamic_se),
+                (self.eta_r_drag, self.eta_r_drag_se),
+                (self.eta_r_brownian, self.eta_r_brownian_se),
+            ],
+            mu: (self.mu, self.mu_se),
+            j: (self.j, self.j_se),
+            green_kubo: green_kubo_at(replicas, self.phi_actual),
+        }
+    }
+
+    /// Writes `rows` to `path` (whole).
+    pub fn write_all(path: &Path, rows: &[FlowCurveRow]) -> Result<()> {
+        let bytes = Self::to_csv(rows).map_err(|message| RheometryError::File {
             path: path.display().to_string(),
             message,
         })?;
         Ok(schema::write_atomic(path, &bytes)?)
     }
 
-    /// The table of `points` as CSV text, or why it cannot be made.
-    pub fn to_csv(points: &[FlowPoint]) -> std::result::Result<Vec<u8>, String> {
+    /// The table of `rows` as CSV text, or why it cannot be made.
+    pub fn to_csv(rows: &[FlowCurveRow]) -> std::result::Result<Vec<u8>, String> {
         let mut table = csv::Writer::from_writer(Vec::new());
-        for p in points {
-            table.serialize(Self::of(p)).map_err(|e| e.to_string())?;
+        for row in rows {
+            table.serialize(row).map_err(|e| e.to_string())?;
         }
         table.into_inner().map_err(|e| e.to_string())
     }
@@ -304,5 +348,38 @@ impl FlowCurveRow {
             .deserialize()
             .collect::<std::result::Result<_, _>>()
             .map_err(err)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A table written before the state, the parts and the composition were columns (the
+    /// header of reports/brownian/nonbrownian_n1000/flow_curves.csv, one line of it) reads
+    /// back with those NaN or none; a line missing a measured column does not.
+    #[test]
+    fn tables_of_older_versions_read_back_without_their_missing_columns() {
+        let dir = std::env::temp_dir().join(format!("flow-rows-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let old = dir.join("old.csv");
+        let header = "scene_id,seed,n_particles,phi_actual,strain_to_steady,mean_overlap,\
+                      shear_rate,sigma_xy,sigma_xy_se,P,P_se,eta_r,eta_r_se,mu,mu_se,J,J_se,\
+                      eta_r_bins,eta_r_bins_se";
+        let line = "a_000,1,1000,0.55,1.0,0.001,0.01,-0.2,0.01,0.5,0.01,20,1,0.4,0.02,\
+                    0.02,0.001,20,1";
+        std::fs::write(&old, format!("{header}\n{line}\n")).unwrap();
+        let rows = FlowCurveRow::read_all(&old).unwrap();
+        assert_eq!(rows.len(), 1);
+        let row = &rows[0];
+        assert_eq!((row.eta_r, row.mu, row.j), (20.0, 0.4, 0.02));
+        assert!(row.eta_r_contact.is_nan() && row.rho.is_nan() && row.peclet.is_nan());
+        assert_eq!((row.alpha, row.tau_i_over_tau_b), (None, None));
+        let cut = header.replace(",eta_r_bins,eta_r_bins_se", "");
+        let short: Vec<&str> = line.split(',').collect();
+        std::fs::write(&old, format!("{cut}\n{}\n", short[..17].join(","))).unwrap();
+        let refused = FlowCurveRow::read_all(&old).unwrap_err().to_string();
+        assert!(refused.contains("eta_r_bins"), "{refused}");
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

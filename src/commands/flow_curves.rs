@@ -11,6 +11,10 @@
 //! fraction gets a figure of `eta_r(Pe)` with the parts of the stress (contact,
 //! lubrication, and the structural Brownian stress beside them).
 //!
+//! With `--table DIR/flow_curves.csv` instead of `--runs`, the figures (and the data beside
+//! them) are drawn again from that table, written earlier, without the runs; the table and
+//! the README are left as they are.
+//!
 //! Two stress conventions are fitted: the box's pair stresslets (contact and lubrication,
 //! as the thesis' LAMMPS runs report), and the bins' `sigma_xy` under the scene's
 //! `[observables] stress` convention (the same pair stresslets by default; with the
@@ -34,8 +38,13 @@ pub struct Args {
     grid: PathBuf,
     /// Work directory in which `suspflow generate` ran the grid (its `--work`, by default
     /// `<out>.work`).
-    #[arg(long)]
-    runs: PathBuf,
+    #[arg(long, required_unless_present = "table")]
+    runs: Option<PathBuf>,
+    /// Instead of `--runs`: a table this command wrote earlier for the grid
+    /// (`flow_curves.csv`), from which the figures are drawn again (the README and the table
+    /// are not rewritten).
+    #[arg(long, conflicts_with_all = ["runs", "local"])]
+    table: Option<PathBuf>,
     /// Inhomogeneous-flow dataset whose sheared bins are compared with the flow curve
     /// (e.g. datasets/train.csv).
     #[arg(long)]
@@ -59,26 +68,37 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, false)?;
     let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow flow-curves`")?;
     let green_kubo = read_green_kubo_replicas(&args.green_kubo).context("--green-kubo")?;
-    let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
-    let runs = FlowRuns::read(&grid, &args.runs, &results)
-        .with_context(|| format!("--runs {}", args.runs.display()))?;
-    let FlowCurves {
-        points,
-        missing,
-        curve,
-        fits,
-    } = FlowCurves::fit(runs, &green_kubo).context("--green-kubo")?;
-    if !missing.is_empty() {
-        eprintln!(
-            "warning: {} of {} runs not finished in {} (run `suspflow generate {} --out ... --work {}`): {}",
-            missing.len(),
+    let Some(runs) = &args.runs else {
+        let table = args.table.as_ref().context("give --runs or --table")?;
+        let curves = FlowCurves::from_table(&grid, table, &green_kubo)
+            .with_context(|| format!("--table {}", table.display()))?;
+        warn_missing(
+            &curves.missing,
             grid.runs.len(),
-            args.runs.display(),
-            args.grid.display(),
-            args.runs.display(),
-            missing.join(", ")
+            &table.display().to_string(),
         );
-    }
+        draw(&args, &curves)?;
+        eprintln!(
+            "drew the figures of {} again in {}",
+            table.display(),
+            args.out.display()
+        );
+        return Ok(());
+    };
+    let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
+    let found = FlowRuns::read(&grid, runs, &results)
+        .with_context(|| format!("--runs {}", runs.display()))?;
+    let curves = FlowCurves::fit(found, &green_kubo).context("--green-kubo")?;
+    warn_missing(
+        &curves.missing,
+        grid.runs.len(),
+        &format!(
+            "{} (run `suspflow generate {} --out ... --work {}`)",
+            runs.display(),
+            args.grid.display(),
+            runs.display()
+        ),
+    );
     let local = match &args.local {
         Some(path) => Some(local_viscosity::bands(
             &Dataset::read_csv(path).with_context(|| format!("reading {}", path.display()))?,
@@ -86,43 +106,69 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )?),
         None => None,
     };
-    let phis = volume_fractions(&curve);
-    let brownian = curve.iter().any(|p| p.state.peclet.is_finite());
-    let mut written: Vec<PathBuf> = ["README.md", "flow_curves.csv", "eta_r.svg", "mu_J.svg"]
-        .iter()
-        .map(|f| args.out.join(f))
-        .collect();
-    if brownian {
-        written.extend(phis.iter().map(|&phi| args.out.join(peclet_figure(phi))));
-    }
     crate::output_guard::refuse_any_unless_force(
-        &written,
+        &[args.out.join("README.md"), args.out.join("flow_curves.csv")],
         args.force,
         "an earlier flow-curve result",
         "choose another --out",
     )?;
-    FlowCurveRow::write_all(&args.out.join("flow_curves.csv"), &points)?;
-    let first_fit = fits
-        .iter()
-        .find_map(|f| f.fits[0].as_ref().ok())
-        .map(|f| f.all);
-    draw_figures(&args.out, &curve, first_fit.as_ref())?;
-    if brownian {
-        for &phi in &phis {
-            draw_peclet_figure(&args.out.join(peclet_figure(phi)), phi, &curve)?;
-        }
-    }
+    draw(&args, &curves)?;
+    FlowCurveRow::write_all(&args.out.join("flow_curves.csv"), &curves.rows)?;
     let command = Command {
         grid: &args.grid,
-        runs: &args.runs,
+        runs,
         local: args.local.as_deref(),
         green_kubo: &args.green_kubo,
         out: &args.out,
     };
-    let text = summary_text(&command, &curve, &fits, local.as_deref());
+    let text = summary_text(&command, &curves.curve, &curves.fits, local.as_deref());
     let readme = args.out.join("README.md");
     write_atomic(&readme, text.as_bytes())?;
     print!("{text}");
     eprintln!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// Warns of the `missing` runs of a grid of `total` not in `source`.
+fn warn_missing(missing: &[String], total: usize, source: &str) {
+    if !missing.is_empty() {
+        eprintln!(
+            "warning: {} of {total} runs not finished in {source}: {}",
+            missing.len(),
+            missing.join(", ")
+        );
+    }
+}
+
+/// Draws the figures of `curves` into `--out` (each with its data beside it): `eta_r(phi)`,
+/// `mu(J)`, and `eta_r(Pe)` per volume fraction of a Brownian grid; refuses to replace
+/// earlier ones without `--force`.
+fn draw(args: &Args, curves: &FlowCurves) -> anyhow::Result<()> {
+    let phis = volume_fractions(&curves.curve);
+    let brownian = curves.curve.iter().any(|p| p.state.peclet.is_finite());
+    let mut figures: Vec<PathBuf> = ["eta_r.svg", "mu_J.svg"]
+        .iter()
+        .map(|f| args.out.join(f))
+        .collect();
+    if brownian {
+        figures.extend(phis.iter().map(|&phi| args.out.join(peclet_figure(phi))));
+    }
+    crate::output_guard::refuse_any_unless_force(
+        &figures,
+        args.force,
+        "an earlier flow-curve result",
+        "choose another --out",
+    )?;
+    let first_fit = curves
+        .fits
+        .iter()
+        .find_map(|f| f.fits[0].as_ref().ok())
+        .map(|f| f.all);
+    draw_figures(&args.out, &curves.curve, first_fit.as_ref())?;
+    if brownian {
+        for &phi in &phis {
+            draw_peclet_figure(&args.out.join(peclet_figure(phi)), phi, &curves.curve)?;
+        }
+    }
     Ok(())
 }

@@ -163,6 +163,50 @@ where
     Ok(())
 }
 
+/// The corner of a plot spanning `x` and `y` (log scales where `log.0`, `log.1`) that holds
+/// the fewest of `points`, where a legend hides the least: each corner counts the points in
+/// the 45 % of the width and 35 % of the height next to it (a legend of about five lines);
+/// ties keep the order upper left, upper right, lower left, lower right.
+pub fn emptiest_corner(
+    points: &[(f64, f64)],
+    x: (f64, f64),
+    y: (f64, f64),
+    log: (bool, bool),
+) -> SeriesLabelPosition {
+    let share = |v: f64, (lo, hi): (f64, f64), log: bool| {
+        if log {
+            (v.ln() - lo.ln()) / (hi.ln() - lo.ln())
+        } else {
+            (v - lo) / (hi - lo)
+        }
+    };
+    let placed: Vec<(f64, f64)> = points
+        .iter()
+        .map(|&(px, py)| (share(px, x, log.0), share(py, y, log.1)))
+        .collect();
+    let corners = [
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::LowerLeft, false, false),
+        (SeriesLabelPosition::LowerRight, true, false),
+    ];
+    let hidden = |&(_, right, upper): &(SeriesLabelPosition, bool, bool)| {
+        placed
+            .iter()
+            .filter(|&&(fx, fy)| {
+                let across = if right { fx > 0.55 } else { fx < 0.45 };
+                let up = if upper { fy > 0.65 } else { fy < 0.35 };
+                across && up
+            })
+            .count()
+    };
+    let fewest = corners.iter().map(hidden).min().unwrap_or(0);
+    corners
+        .into_iter()
+        .find(|c| hidden(c) == fewest)
+        .map_or(SeriesLabelPosition::UpperLeft, |c| c.0)
+}
+
 /// The smallest and largest of `values`, divided and multiplied by `pad` (a margin on a
 /// log axis); `(0.1, 10)` when there are none.
 pub fn log_bounds(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {

@@ -1,7 +1,7 @@
 //! Measured points with error bars beside model curves, on a logarithmic y axis and a
 //! linear or logarithmic x axis, as SVG (the flow curves of homogeneous shear against the
-//! jamming law).
-use crate::plots::chart_frame::{canvas, chart, legend, log_axis, log_bounds};
+//! jamming law), the legend in the corner that hides the fewest of them.
+use crate::plots::chart_frame::{canvas, chart, emptiest_corner, legend, log_axis, log_bounds};
 use crate::plots::figure_data::{self, Row};
 use crate::plots::loglog::Line;
 use crate::plots::profile_panels::COLOURS;
@@ -29,10 +29,17 @@ pub fn draw(
     curves: &[Line],
 ) -> anyhow::Result<()> {
     let ((x0, x1), y) = ranges(data, curves, log_x);
+    let corner = emptiest_corner(&drawable(data, curves), (x0, x1), y, (log_x, true));
+    let frame = Frame {
+        title,
+        axes,
+        y,
+        corner,
+    };
     let result = if log_x {
-        draw_inner(path, title, axes, log_axis(x0, x1), y, data, curves)
+        draw_inner(path, &frame, log_axis(x0, x1), data, curves)
     } else {
-        draw_inner(path, title, axes, x0..x1, y, data, curves)
+        draw_inner(path, &frame, x0..x1, data, curves)
     };
     result.with_context(|| format!("drawing {}", path.display()))?;
     let measured = data.iter().flat_map(|d| {
@@ -60,14 +67,18 @@ fn usable(x: f64, y: f64) -> bool {
     x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite()
 }
 
-/// The x and y ranges of every drawable value, padded.
-fn ranges(data: &[Points], curves: &[Line], log_x: bool) -> ((f64, f64), (f64, f64)) {
-    let all: Vec<(f64, f64)> = data
-        .iter()
+/// Every drawable value of the points and the curves.
+fn drawable(data: &[Points], curves: &[Line]) -> Vec<(f64, f64)> {
+    data.iter()
         .flat_map(|d| d.points.iter().map(|&(x, y, _)| (x, y)))
         .chain(curves.iter().flat_map(|c| c.points.iter().copied()))
         .filter(|&(x, y)| usable(x, y))
-        .collect();
+        .collect()
+}
+
+/// The x and y ranges of every drawable value, padded.
+fn ranges(data: &[Points], curves: &[Line], log_x: bool) -> ((f64, f64), (f64, f64)) {
+    let all = drawable(data, curves);
     let range = |f: fn(&(f64, f64)) -> f64, pad: f64| log_bounds(all.iter().map(f), pad);
     let x = if log_x {
         range(|p| p.0, 1.1)
@@ -79,12 +90,18 @@ fn ranges(data: &[Points], curves: &[Line], log_x: bool) -> ((f64, f64), (f64, f
     (x, range(|p| p.1, 1.3))
 }
 
+/// What frames a figure besides its x axis: title, axis names, y range, legend corner.
+struct Frame<'a> {
+    title: &'a str,
+    axes: (&'a str, &'a str),
+    y: (f64, f64),
+    corner: SeriesLabelPosition,
+}
+
 fn draw_inner<X>(
     path: &Path,
-    title: &str,
-    axes: (&str, &str),
+    frame: &Frame,
     x_axis: X,
-    (y0, y1): (f64, f64),
     data: &[Points],
     curves: &[Line],
 ) -> anyhow::Result<()>
@@ -93,7 +110,8 @@ where
     X::CoordDescType: ValueFormatter<f64>,
 {
     canvas(path, |root| {
-        let mut chart = chart(root, title, axes, x_axis, log_axis(y0, y1))?;
+        let (y0, y1) = frame.y;
+        let mut chart = chart(root, frame.title, frame.axes, x_axis, log_axis(y0, y1))?;
         for (i, d) in data.iter().enumerate() {
             let colour = COLOURS[i % COLOURS.len()];
             let pts: Vec<(f64, f64, f64)> = d
@@ -129,7 +147,7 @@ where
                     PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
                 });
         }
-        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
+        legend(&mut chart, frame.corner.clone())?;
         Ok(())
     })
 }

@@ -1,10 +1,11 @@
 //! `train`: the surrogate mappings fitted on a table and saved into a folder, as `suspflow
 //! train` does (`solver::TrainingJob`: hyper-parameters, fit, intervals, model files, then
 //! the bands of `solve`). The job runs on a worker thread ([`run_watched`]) without the GIL;
-//! the result is a `solver::TrainingResult` as JSON text.
+//! the result is a `solver::TrainingResult` as JSON text. Ctrl-C stops it before the next
+//! mapping (or the bands), the models saved until then kept.
 use crate::dataset::{dataset, Table};
 use crate::error::Error;
-use crate::worker::run_watched;
+use crate::worker::{run_watched, INTERRUPTED};
 use pyo3::prelude::*;
 use sim::output::file_lock::FileLock;
 use solver::{ParamsSource, TrainingEvent, TrainingJob};
@@ -65,6 +66,7 @@ pub fn train(
         bands,
         force,
         code_version: crate::CODE_VERSION,
+        interrupt: Some(&INTERRUPTED),
     };
     let work = |send: Sender<(String, String)>| {
         let send = Mutex::new(send);

@@ -403,7 +403,8 @@ def train(
     already in ``out`` raise :class:`FileError` unless ``force``. ``progress``: True prints a
     line per step to standard error, a callable gets ``(step, name)`` (``("tuned", mapping)``,
     ``("intervals", mapping)``, ``("trained", mapping)``, ``("bands", family)``). The work
-    holds no GIL (Ctrl-C is raised when it ends).
+    holds no GIL; Ctrl-C (or an exception of ``progress``) stops it before the next mapping
+    or the bands, the models saved until then kept, and is raised.
 
     Returns what the command prints: ``mappings``, per mapping its ``rows`` and
     ``skipped_rows``, ``params``, ``tuning`` (settings, folds, ``left_out``, the ``chosen``

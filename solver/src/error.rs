@@ -70,6 +70,13 @@ pub enum SolverError {
         what: String,
     },
 
+    /// A job stopped at its interrupt, with the models of the mappings `saved` written.
+    #[error(
+        "interrupted before every mapping was trained (models saved: {})",
+        if saved.is_empty() { "none".to_owned() } else { saved.join(", ") }
+    )]
+    Interrupted { saved: Vec<String> },
+
     /// A step of a longer job failed: `doing` says which (e.g. "saving the dv model"), the
     /// error's source why.
     #[error("{doing}")]

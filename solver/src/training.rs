@@ -13,7 +13,7 @@
 use ndarray::Array2;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 use surrogate::{
     output_standard_errors, standard_grid, CvScore, Dataset, HyperParameters, IntervalCalibration,
@@ -54,6 +54,9 @@ pub struct TrainingJob<'a> {
     pub force: bool,
     /// Stamped into `bands.json`.
     pub code_version: &'a str,
+    /// Checked before each mapping and before the bands: once set, the job stops with
+    /// [`SolverError::Interrupted`], the models saved until then kept.
+    pub interrupt: Option<&'a AtomicBool>,
 }
 
 /// What a training reports while it works, for a front end to show.
@@ -256,6 +259,7 @@ impl TrainingJob<'_> {
         let mut trained = Vec::new();
         let mut studies = Vec::new();
         for &mapping in &self.mappings {
+            self.check_interrupt(&trained)?;
             let (result, study) = self.train(mapping, observe)?;
             observe(TrainingEvent::Trained {
                 mapping,
@@ -265,6 +269,7 @@ impl TrainingJob<'_> {
             studies.extend(study);
         }
         let bands = if self.bands {
+            self.check_interrupt(&trained)?;
             self.bands(&studies, observe)?
         } else {
             BandsOutcome::Skipped
@@ -274,6 +279,16 @@ impl TrainingJob<'_> {
             bands,
             seconds: started.elapsed().as_secs_f64(),
         })
+    }
+
+    /// Fails with [`SolverError::Interrupted`] once the interrupt is set.
+    fn check_interrupt(&self, trained: &[TrainedMapping]) -> Result<()> {
+        match self.interrupt {
+            Some(flag) if flag.load(Ordering::SeqCst) => Err(SolverError::Interrupted {
+                saved: trained.iter().map(|t| t.mapping.clone()).collect(),
+            }),
+            _ => Ok(()),
+        }
     }
 
     /// Trains, calibrates and saves one mapping; its interval study when it has one.
@@ -478,37 +493,72 @@ mod tests {
     use super::*;
 
     /// Four profile families of the power law mu = 3.6 J^0.44, ten rows each, with
-    /// phi_loc from the jamming law.
+    /// phi_loc from the jamming law and Delta_v a ramp in J.
     fn families() -> Dataset {
-        let mut text = String::from("scene_id,profile,phi,seed,J,phi_loc,mu\n");
+        let mut text = String::from("scene_id,profile,phi,seed,J,phi_loc,mu,Delta_v\n");
         for k in 0..4 {
             for b in 0..10 {
                 let j = 1e-3 * 2.5f64.powi(k) * 10f64.powf(f64::from(b) / 10.0);
                 let mu = 3.6 * j.powf(0.44);
                 let phi_loc = 0.66 - (j / (2.0 * mu)).sqrt();
-                text += &format!("f{k},\"0.{k}1*sin(2*pi*y/L)\",0.5,1,{j},{phi_loc},{mu}\n");
+                let dv = 0.02 + 0.5 * j;
+                text += &format!("f{k},\"0.{k}1*sin(2*pi*y/L)\",0.5,1,{j},{phi_loc},{mu},{dv}\n");
             }
         }
         Dataset::from_csv_bytes(text.as_bytes(), "families").unwrap()
     }
 
-    #[test]
-    fn a_model_file_in_the_folder_is_replaced_only_when_forced() {
-        let out = std::env::temp_dir().join(format!("solver_training_{}", std::process::id()));
-        std::fs::create_dir_all(&out).unwrap();
-        let lone = out.join("mu.intervals.json");
-        std::fs::write(&lone, "mine").unwrap();
-        let data = families();
-        let mut job = TrainingJob {
-            data: &data,
+    /// A scratch folder for one test.
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("solver_{name}_{}", std::process::id()));
+        std::fs::remove_dir_all(&dir).ok();
+        dir
+    }
+
+    /// An untuned job training `mappings` of [`families`] into `out`.
+    fn job<'a>(data: &'a Dataset, out: &'a Path, mappings: &[&str]) -> TrainingJob<'a> {
+        TrainingJob {
+            data,
             data_file: None,
-            out: &out,
-            mappings: Mapping::select(&["mu"]).unwrap(),
+            out,
+            mappings: Mapping::select(mappings).unwrap(),
             params: ParamsSource::Defaults,
             bands: true,
             force: false,
             code_version: "test",
+            interrupt: None,
+        }
+    }
+
+    #[test]
+    fn an_interrupt_stops_before_the_next_mapping_keeping_the_saved_ones() {
+        let out = scratch("training_interrupt");
+        let data = families();
+        let stop = AtomicBool::new(false);
+        let mut job = job(&data, &out, &["mu", "dv"]);
+        job.interrupt = Some(&stop);
+        let stop_when_trained = |event: TrainingEvent| {
+            if let TrainingEvent::Trained { .. } = event {
+                stop.store(true, Ordering::SeqCst);
+            }
         };
+        match job.run(&stop_when_trained) {
+            Err(SolverError::Interrupted { saved }) => assert_eq!(saved, ["mu"]),
+            other => panic!("not interrupted: {other:?}"),
+        }
+        assert!(out.join("mu.json").exists() && out.join("mu.intervals.json").exists());
+        assert!(!out.join("dv.json").exists() && !out.join("dv.meta.json").exists());
+        std::fs::remove_dir_all(&out).ok();
+    }
+
+    #[test]
+    fn a_model_file_in_the_folder_is_replaced_only_when_forced() {
+        let out = scratch("training_force");
+        std::fs::create_dir_all(&out).unwrap();
+        let lone = out.join("mu.intervals.json");
+        std::fs::write(&lone, "mine").unwrap();
+        let data = families();
+        let mut job = job(&data, &out, &["mu"]);
         let events = AtomicUsize::new(0);
         let count = |_: TrainingEvent| {
             events.fetch_add(1, Ordering::Relaxed);

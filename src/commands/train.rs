@@ -67,6 +67,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         bands: !args.no_bands,
         force: args.force,
         code_version: crate::CODE_VERSION,
+        interrupt: None,
     };
     let result = job.run(&print_event).map_err(|e| match e {
         SolverError::WouldReplace { path, what } => {

@@ -8,12 +8,18 @@ use std::path::Path;
 /// what else the user can do (e.g. "choose another --out").
 pub fn refuse_unless_force(path: &Path, force: bool, what: &str, hint: &str) -> anyhow::Result<()> {
     if !force && path.exists() {
-        bail!(
-            "{} already exists ({what}); --force replaces it, or {hint}",
-            path.display()
-        );
+        return Err(refusal(path, what, hint));
     }
     Ok(())
+}
+
+/// The error of an existing `path` that only `--force` replaces (a library's refusal,
+/// e.g. `solver::SolverError::WouldReplace`, told in the command's words).
+pub fn refusal(path: &Path, what: &str, hint: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{} already exists ({what}); --force replaces it, or {hint}",
+        path.display()
+    )
 }
 
 /// [`refuse_unless_force`] for every file a writer would replace (a table and the files

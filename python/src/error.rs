@@ -153,7 +153,13 @@ impl From<solver::SolverError> for Error {
     fn from(e: solver::SolverError) -> Self {
         match e {
             solver::SolverError::Surrogate(e) => e.into(),
+            solver::SolverError::During { doing, source } => Error::context(doing, *source),
             solver::SolverError::File { .. } => Error::new(Kind::File, e.to_string()),
+            solver::SolverError::Interrupted { .. } => Error::new(Kind::Interrupted, e.to_string()),
+            solver::SolverError::WouldReplace { .. } => Error::new(
+                Kind::File,
+                format!("{e}; force=True replaces it, or choose another out"),
+            ),
             e => Error::new(Kind::General, e.to_string()),
         }
     }

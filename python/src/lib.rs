@@ -15,6 +15,7 @@ mod models;
 mod scene;
 mod simulate;
 mod solve;
+mod train;
 mod worker;
 
 /// Version of the code that produced a result: package version and commit (the
@@ -37,5 +38,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(green_kubo::green_kubo, m)?)?;
     m.add_function(wrap_pyfunction!(dataset::read_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
+    m.add_function(wrap_pyfunction!(train::train, m)?)?;
     Ok(())
 }

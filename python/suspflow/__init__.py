@@ -10,7 +10,8 @@ time, shear rates ``gdot`` in 1 / time, stresses ``sigma_xy`` and pressures ``P`
 (docs/physics.md sections 6 and 8 define the columns).
 
 Functions: :func:`read_scene`, :func:`check`, :func:`simulate`, :func:`predict`,
-:func:`generate`, :func:`green_kubo`, :func:`validate`, :func:`cross_validate`, :func:`flow_curves`,
+:func:`generate`, :func:`green_kubo`, :func:`train`, :func:`validate`, :func:`cross_validate`,
+:func:`flow_curves`,
 :func:`read_dataset`, :func:`read_ensemble`, :func:`solve`. Every failure
 raises a :class:`SuspflowError` with the crates' message (a bad scene names the field), of
 the class of what failed: :class:`FileError` (a file missing, unreadable, locked or not
@@ -69,6 +70,7 @@ __all__ = [
     "read_scene",
     "simulate",
     "solve",
+    "train",
     "validate",
 ]
 
@@ -372,6 +374,86 @@ def predict(
         warnings.warn(
             f"{outside} of {len(result)} rows lie outside the training domain of `{name}`: "
             "their predictions are extrapolations (in_domain = False)"
+        )
+    return result
+
+
+def train(
+    data: TableLike,
+    out: PathLike,
+    mappings: Optional[Sequence[str]] = None,
+    *,
+    tune: bool = True,
+    params_from: Optional[PathLike] = None,
+    bands: bool = True,
+    force: bool = False,
+    progress: Union[bool, Callable[[tuple], None]] = False,
+) -> Dict[str, Any]:
+    """Fits the surrogate mappings of docs/physics.md section 8 (``mu``, ``theta``, ``dv``,
+    ``ext``; all four unless ``mappings`` names some) on ``data`` (the per-run table of
+    :func:`generate` or its ensemble table, DataFrame or path) and saves them into the
+    folder ``out``, as ``suspflow train``, the same files with the same numbers:
+    ``<mapping>.json`` (XGBoost JSON), ``.meta.json``, ``.domain.json``, the intervals
+    (``.intervals.json``, ``.quantiles_<output>.json``) and, when tuned, ``.tuning.json``.
+    The hyper-parameters are chosen by cross-validation on ``data`` alone (``tune``, leaving
+    one profile family out when there are at least three, else one simulation), taken from
+    the models in ``params_from``, or XGBoost's defaults (``tune=False``). With ``bands``,
+    when ``dv`` and ``theta`` are trained together, the bands of :func:`solve` are calibrated
+    too (``bands.json``, every family's scenes solved with the models of its fold). Models
+    already in ``out`` raise :class:`FileError` unless ``force``. ``progress``: True prints a
+    line per step to standard error, a callable gets ``(step, name)`` (``("tuned", mapping)``,
+    ``("intervals", mapping)``, ``("trained", mapping)``, ``("bands", family)``). The work
+    holds no GIL; Ctrl-C (or an exception of ``progress``) stops it before the next mapping
+    or the bands, the models saved until then kept, and is raised.
+
+    Returns what the command prints: ``mappings``, per mapping its ``rows`` and
+    ``skipped_rows``, ``params``, ``tuning`` (settings, folds, ``left_out``, the ``chosen``
+    and ``defaults`` scores: relative L2 error per output, a fraction; None untuned),
+    ``training_error`` (per output, a fraction), ``intervals`` (``level``, ``folds``,
+    ``held_out``, ``fold_coverage``, ``fold_mean_width`` in output units; None with the
+    reason in ``without_intervals``) and ``fit_seconds``; ``bands`` (``status``:
+    ``calibrated`` with ``folds`` and per closure the held-out bins' ``fold_coverage`` of u,
+    phi_loc and mu, ``skipped``, ``not_trained`` or ``too_few_families``); ``seconds``. What
+    the command warns of is a warning here."""
+    if progress is True:
+        progress = lambda step: print(  # noqa: E731
+            f"train: {step[1]}: {step[0]}", file=sys.stderr, flush=True
+        )
+    result = json.loads(
+        _native.train(
+            _table(data),
+            os.fspath(out),
+            list(mappings or []),
+            tune,
+            None if params_from is None else os.fspath(params_from),
+            bands,
+            force,
+            progress or None,
+        )
+    )
+    for m in result["mappings"]:
+        if m["skipped_rows"]:
+            warnings.warn(
+                f"{m['mapping']}: {m['skipped_rows']} rows skipped: an empty cell in one of "
+                f"{', '.join(m['features'] + m['outputs'])}"
+            )
+        if m["tuning"] and m["tuning"]["backbone_excluded"]:
+            warnings.warn(
+                f"{m['mapping']}: settings with the physics backbone left out of the search: "
+                f"{m['tuning']['backbone_excluded']}"
+            )
+        if m["without_intervals"]:
+            warnings.warn(f"{m['mapping']}: saved without intervals: {m['without_intervals']}")
+    b = result["bands"]
+    if b["status"] == "not_trained" and b["kept"]:
+        warnings.warn(
+            f"{b['kept']} was left as it was: the bands of solve are calibrated when dv and "
+            "theta are trained together"
+        )
+    elif b["status"] == "too_few_families":
+        warnings.warn(
+            f"no bands for solve: they are calibrated leaving one profile family out, and "
+            f"{b['mapping']}'s folds left out {b['held_out']}"
         )
     return result
 

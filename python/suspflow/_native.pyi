@@ -120,6 +120,18 @@ def cross_validate(
 ) -> str:
     """The leave-one-family-out study of `table`; returns cv.json's record as JSON text."""
 
+def train(
+    table: Table,
+    out: str,
+    mappings: Sequence[str] = ...,
+    tune: bool = True,
+    params_from: Optional[str] = None,
+    bands: bool = True,
+    force: bool = False,
+    progress: Optional[Callable[[Tuple[str, str]], None]] = None,
+) -> str:
+    """Trains the mappings of `table` into `out` as `suspflow train`; returns the result as JSON text."""
+
 def flow_curves(
     grid: str, runs: str, green_kubo: Sequence[str] = ...
 ) -> Tuple[

@@ -63,9 +63,42 @@ pub enum SolverError {
     #[error("{path}: {message}")]
     File { path: String, message: String },
 
+    /// A file that holds a user's work would be replaced, and replacing was not asked for.
+    #[error("{} already exists ({what})", path.display())]
+    WouldReplace {
+        path: std::path::PathBuf,
+        what: String,
+    },
+
+    /// A job stopped at its interrupt, with the models of the mappings `saved` written.
+    #[error(
+        "interrupted before every mapping was trained (models saved: {})",
+        if saved.is_empty() { "none".to_owned() } else { saved.join(", ") }
+    )]
+    Interrupted { saved: Vec<String> },
+
+    /// A step of a longer job failed: `doing` says which (e.g. "saving the dv model"), the
+    /// error's source why.
+    #[error("{doing}")]
+    During {
+        doing: String,
+        source: Box<SolverError>,
+    },
+
     /// A closure or a dataset failed in the surrogate crate.
     #[error(transparent)]
     Surrogate(#[from] surrogate::SurrogateError),
+}
+
+impl SolverError {
+    /// This error as the failure of the step `doing`.
+    pub fn during<E: Into<Self>>(doing: impl Into<String>) -> impl FnOnce(E) -> Self {
+        let doing = doing.into();
+        move |e| SolverError::During {
+            doing,
+            source: Box::new(e.into()),
+        }
+    }
 }
 
 /// Result type of this crate.

@@ -23,6 +23,7 @@ pub mod proposal;
 pub mod solution;
 pub mod solved_profile;
 pub mod theta_balance;
+pub mod training;
 
 pub use band_calibration::{calibrate_bands, ShippedModel};
 pub use bands::{BandCalibration, BandScales, ClosureBands, ProfileBands, BANDED};
@@ -39,3 +40,7 @@ pub use proposal::{Candidate, Outcome, Proposal};
 pub use solution::ProfileSolution;
 pub use solved_profile::{BandSummary, SolveSummary, SolvedProfile};
 pub use theta_balance::{ThetaBalance, ThetaBalanceFit};
+pub use training::{
+    BandsOutcome, BandsSummary, ClosureSummary, IntervalSummary, ParamsSource, TrainedMapping,
+    TrainingEvent, TrainingJob, TrainingResult, TuningSummary,
+};

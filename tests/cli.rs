@@ -156,7 +156,7 @@ fn bench_refuses_bad_options_naming_them() {
 #[test]
 fn golden_runs_match_and_write_every_output() {
     for (scene, golden, dt_limit) in [
-        ("golden", "golden_profile.csv", "accuracy"),
+        ("golden", "golden_profile.csv", "friction"),
         (
             "golden_explicit",
             "golden_explicit_profile.csv",

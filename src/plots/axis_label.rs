@@ -2,8 +2,16 @@
 //! simulator's reduced units (docs/physics.md section 1: lengths in the small radius `a`,
 //! the fluid viscosity `eta`, time in the units the scene fixes) or `dimensionless`.
 
-/// The unit of a column or quantity named `name`, or `None` for an unknown one.
+/// The unit of a column or quantity named `name`, or `None` for an unknown one. A relative
+/// error, and a quantity's standard error over the quantity (`Theta SE / Theta`), are
+/// dimensionless whatever the quantity.
 fn unit(name: &str) -> Option<&'static str> {
+    let ratio_to_itself = name
+        .split_once(" SE / ")
+        .is_some_and(|(top, bottom)| top == bottom);
+    if name.starts_with("relative") || ratio_to_itself {
+        return Some("dimensionless");
+    }
     Some(match name {
         "y" | "x" | "z" | "L_y" | "L_x" | "L_z" | "a" => "a",
         "u" | "u_inf" | "v" | "Delta_u" => "a / time",
@@ -11,7 +19,7 @@ fn unit(name: &str) -> Option<&'static str> {
         "sigma_xy" | "P" | "sigma_yy" | "stress" | "pressure" => "eta / time",
         "f_x" => "eta / (time a)",
         "phi" | "phi_loc" | "J" | "mu" | "Theta" | "Delta_v" | "eta_r" | "Pe" | "count"
-        | "relative error" | "rel_l2" => "dimensionless",
+        | "rel_l2" => "dimensionless",
         _ => return None,
     })
 }
@@ -41,5 +49,14 @@ mod tests {
         assert_eq!(with_units("phi_loc"), "phi_loc (dimensionless)");
         assert_eq!(with_units("wall time (s)"), "wall time (s)");
         assert_eq!(with_units("something"), "something (reduced units)");
+        assert_eq!(
+            with_units("Theta SE / Theta"),
+            "Theta SE / Theta (dimensionless)"
+        );
+        assert_eq!(
+            with_units("relative L2 validation error"),
+            "relative L2 validation error (dimensionless)"
+        );
+        assert_eq!(with_units("u SE / Theta"), "u SE / Theta (reduced units)");
     }
 }

@@ -28,8 +28,9 @@ pub fn draw(
     data: &[Points],
     curves: &[Line],
 ) -> anyhow::Result<()> {
-    let ((x0, x1), y) = ranges(data, curves, log_x);
-    let corner = emptiest_corner(&drawable(data, curves), (x0, x1), y, (log_x, true));
+    let all = drawable(data, curves);
+    let ((x0, x1), y) = ranges(&all, log_x);
+    let corner = emptiest_corner(&all, (x0, x1), y, (log_x, true));
     let frame = Frame {
         title,
         axes,
@@ -76,9 +77,8 @@ fn drawable(data: &[Points], curves: &[Line]) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// The x and y ranges of every drawable value, padded.
-fn ranges(data: &[Points], curves: &[Line], log_x: bool) -> ((f64, f64), (f64, f64)) {
-    let all = drawable(data, curves);
+/// The x and y ranges of the drawable values `all`, padded.
+fn ranges(all: &[(f64, f64)], log_x: bool) -> ((f64, f64), (f64, f64)) {
     let range = |f: fn(&(f64, f64)) -> f64, pad: f64| log_bounds(all.iter().map(f), pad);
     let x = if log_x {
         range(|p| p.0, 1.1)

@@ -7,6 +7,9 @@ pub enum Stall {
     IterationLimit(usize),
     /// The Jacobian has no inverse: the closure does not change with the local state.
     SingularJacobian,
+    /// The last fresh Jacobians (the number held) did not halve the residual: the iterate
+    /// sits on a kink of the trees that Newton's method does not leave.
+    NoProgress(usize),
 }
 
 impl std::fmt::Display for Stall {
@@ -22,6 +25,13 @@ impl std::fmt::Display for Stall {
                 f,
                 "the Jacobian is singular: the closure does not change with the local state \
                  here, as trees do beyond their training range"
+            ),
+            Stall::NoProgress(window) => write!(
+                f,
+                "{window} Newton iterations in a row did not halve the residual (a closure of \
+                 boosted trees is piecewise constant, smoothed only over +-{:.0} % in J and \
+                 Delta_v, Theta or d_ext)",
+                100.0 * crate::closure::SMOOTHING
             ),
         }
     }

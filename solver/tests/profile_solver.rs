@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use sim::FlowProfile;
 use solver::{
     fit_local_rheology, Closure, Descriptor, ExtremumClosure, LearnedClosure, NonlocalClosure,
-    ProfileProblem, ProfileSolution, ThetaBalance, TOLERANCE,
+    ProfileProblem, ProfileSolution, SolverError, Stall, ThetaBalance, TOLERANCE,
 };
 use surrogate::{Dataset, LocalRheology, Predictor};
 
@@ -216,6 +216,16 @@ fn starting_from_the_local_law_solves_what_newton_from_u_inf_does_not() {
     let (problem, _) = scene(table, "plugs_densest_003");
     let err = problem.solve(&nonlocal, None, 0.1).unwrap_err();
     assert!(err.to_string().contains("did not converge"), "{err}");
+    // It stops when five Jacobians in a row have not halved the residual, well before the
+    // limit of 30 iterations (the time `solve` would otherwise lose on it).
+    match err {
+        SolverError::NotConverged {
+            stall: Stall::NoProgress(5),
+            iterations,
+            ..
+        } => assert!(iterations < 30, "{iterations}"),
+        other => panic!("expected a stall for lack of progress: {other}"),
+    }
     let s = problem.solve(&nonlocal, Some(&law), 0.1).unwrap();
     assert!(!s.continued);
     check(&s, &problem);

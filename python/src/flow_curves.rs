@@ -10,13 +10,15 @@ use std::path::PathBuf;
 use surrogate::CONVENTIONS;
 
 /// One fit of the jamming law `eta_r = (1 - phi/phi_J)^(-lambda)`: the state (mu_p, peclet,
-/// alpha, rho), the stress convention, phi_J and its standard error, lambda and its standard
+/// alpha, rho, dt_factor and the fixed dt if any), the stress convention, phi_J and its standard error, lambda and its standard
 /// error (`None` where the points could not be fitted), and why not.
 type FitRecord = (
     f64,
     f64,
     Option<f64>,
     f64,
+    f64,
+    Option<f64>,
     &'static str,
     Option<[f64; 4]>,
     Option<String>,
@@ -49,7 +51,17 @@ pub fn flow_curves(
                 ),
                 Err(e) => (None, Some(e.to_string())),
             };
-            fits.push((s.mu_p, s.peclet, s.alpha, s.rho, *convention, values, why));
+            fits.push((
+                s.mu_p,
+                s.peclet,
+                s.alpha,
+                s.rho,
+                s.step.dt_factor,
+                s.step.dt,
+                *convention,
+                values,
+                why,
+            ));
         }
     }
     let table = String::from_utf8(table).map_err(|e| Error::from(e.to_string()))?;

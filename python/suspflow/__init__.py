@@ -528,7 +528,8 @@ def flow_curves(
     ``flow_curves.csv``, one per finished run (box totals ``sigma_xy``, ``P`` in ``eta`` /
     time; ``eta_r``, ``mu``, ``J`` and the parts of ``eta_r``, dimensionless, each with its
     standard error ``_se``); ``fits`` one row per state (``mu_p``, ``peclet``, ``alpha``,
-    ``rho``) and stress ``convention`` of the jamming law ``eta_r = (1 - phi/phi_J)^-lambda``:
+    ``rho``, ``dt_factor``: the multiple of the automatic time step, ``dt``: the fixed step
+    where the scene sets one, else NaN) and stress ``convention`` of the jamming law ``eta_r = (1 - phi/phi_J)^-lambda``:
     ``phi_J``, ``phi_J_se``, ``lambda``, ``lambda_se`` (NaN with the reason in ``error``
     where the points cannot be fitted). Runs not finished are named in a warning."""
     table, fits, missing = _native.flow_curves(
@@ -537,11 +538,12 @@ def flow_curves(
     if missing:
         warnings.warn(f"{len(missing)} runs not finished in {runs}: {', '.join(missing)}")
     rows = [
-        (mu_p, peclet, alpha, rho, convention, *(values or [np.nan] * 4), error)
-        for mu_p, peclet, alpha, rho, convention, values, error in fits
+        (mu_p, peclet, alpha, rho, dt_factor, np.nan if dt is None else dt, convention,
+         *(values or [np.nan] * 4), error)
+        for mu_p, peclet, alpha, rho, dt_factor, dt, convention, values, error in fits
     ]
     columns = [
-        "mu_p", "peclet", "alpha", "rho", "convention",
+        "mu_p", "peclet", "alpha", "rho", "dt_factor", "dt", "convention",
         "phi_J", "phi_J_se", "lambda", "lambda_se", "error",
     ]
     return _exact_table(table), pd.DataFrame(rows, columns=columns)

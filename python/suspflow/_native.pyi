@@ -138,7 +138,7 @@ def flow_curves(
     str,
     List[
         Tuple[
-            float, float, Optional[float], float, str,
+            float, float, Optional[float], float, float, Optional[float], str,
             Optional[Tuple[float, float, float, float]], Optional[str],
         ]
     ],

@@ -34,7 +34,8 @@ def test_the_table_is_the_commands(root, runs, run_suspflow, tmp_path):
     # One fit per convention of the one state; the report states the same numbers.
     assert len(fits) == 4 and pd.isna(fits["error"].iloc[0])
     box = fits.iloc[0]
-    assert box["convention"] == "pair stresslets (box)"
+    assert box["convention"] == "pair stresslets (box)" and box["dt_factor"] == 1.0
+    assert pd.isna(box["dt"])
     readme = (out / "README.md").read_text()
     line = (
         f"| pair stresslets (box) | {box.phi_J:.4f} ± {box.phi_J_se:.4f} "

@@ -13,7 +13,9 @@ use sim::run::run_folder::{Recorded, RunFolder, RunStatus};
 use sim::sampling::block_sums::Estimate;
 use sim::sampling::shear_rheology::ShearRheology;
 use std::path::Path;
-use surrogate::{bin_viscosity, green_kubo_at, part_viscosity, Dataset, State, StatePoint};
+use surrogate::{
+    bin_viscosity, green_kubo_at, part_viscosity, Dataset, State, StatePoint, StepSetting,
+};
 
 /// The parts of `eta_r` the table and figures show: name in `flow_curves.csv`, legend, and
 /// the stress part (`schema::columns::STRESS_PARTS`) it is `-sigma_xy / (eta gdot)` of.
@@ -144,7 +146,8 @@ impl FlowRuns {
     }
 }
 
-/// The state `(mu_p, Pe, alpha, rho)` of the grid's scene `gs`: what names its curve.
+/// The state `(mu_p, Pe, alpha, rho, time step)` of the grid's scene `gs`: what names its
+/// curve.
 pub(crate) fn state_of(gs: &GridRun) -> State {
     State {
         mu_p: gs.scene.file.forces.mu_p,
@@ -155,6 +158,10 @@ pub(crate) fn state_of(gs: &GridRun) -> State {
             .unwrap_or(f64::INFINITY),
         alpha: gs.scene.file.particles.mixture.as_ref().map(|m| m.alpha),
         rho: gs.scene.rho,
+        step: StepSetting {
+            dt: gs.scene.file.run.dt,
+            dt_factor: gs.scene.file.run.dt_factor,
+        },
     }
 }
 

@@ -12,7 +12,7 @@ use surrogate::{over_seeds, Curve, JammingLaw, State, StatePoint, SEEDS_LAW};
 /// A state's name in the tables; its density only where `densities` (the runs hold more
 /// than one, [`several_densities`]).
 pub fn label(state: &State, densities: bool) -> String {
-    let more = curve_suffix(state.alpha, state.rho, densities);
+    let more = curve_suffix(state.curve(), densities);
     if state.peclet.is_finite() {
         format!("mu_p = {}, Pe = {:.3e}{more}", state.mu_p, state.peclet)
     } else {
@@ -20,12 +20,23 @@ pub fn label(state: &State, densities: bool) -> String {
     }
 }
 
-/// `, alpha = a` for a mixture's grain share `a`, then `, rho = r` where `densities`;
-/// nothing for one-species runs at the grid's one density.
-pub fn curve_suffix(alpha: Option<f64>, rho: f64, densities: bool) -> String {
+/// `, alpha = a` for a mixture's grain share `a`, then `, rho = r` where `densities`, then
+/// the time step where it is not the automatic one: `, dt = d` (fixed) or `, dt x f` (a
+/// multiple of the automatic step); nothing for one-species runs at the grid's one density
+/// and the automatic step.
+pub fn curve_suffix((_, alpha, rho, step): Curve, densities: bool) -> String {
     let mut suffix = alpha.map_or_else(String::new, |a| format!(", alpha = {a}"));
     if densities {
         let _ = write!(suffix, ", rho = {rho}");
+    }
+    match step.dt {
+        Some(dt) => {
+            let _ = write!(suffix, ", dt = {dt:.3e}");
+        }
+        None if step.dt_factor != 1.0 => {
+            let _ = write!(suffix, ", dt x {:.3}", step.dt_factor);
+        }
+        None => {}
     }
     suffix
 }
@@ -63,8 +74,7 @@ pub fn draw_peclet_figure(path: &Path, phi: f64, points: &[StatePoint]) -> anyho
             .collect()
     };
     let densities = several_densities(points);
-    let name =
-        |(mu_p, alpha, rho): Curve| format!("mu_p = {mu_p}{}", curve_suffix(alpha, rho, densities));
+    let name = |curve: Curve| format!("mu_p = {}{}", curve.0, curve_suffix(curve, densities));
     let mut series = Vec::new();
     for &kind in &kinds {
         series.push(Points {

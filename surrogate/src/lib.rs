@@ -53,7 +53,7 @@ pub use rheology::flow_curve_fit::{bin_viscosity, FlowCurvePoint, SeededJammingF
 pub use rheology::flow_curves::{
     green_kubo_at, green_kubo_matches, green_kubo_points, keep_green_kubo_at_lowest_peclet,
     over_seeds, part_viscosity, seed_mean, state_rows, states, volume_fractions, Curve, State,
-    StateFits, StatePoint, StateRow, CONVENTIONS,
+    StateFits, StatePoint, StateRow, StepSetting, CONVENTIONS,
 };
 pub use rheology::jamming_bootstrap::{JammingBootstrap, PointWithError, Quantiles};
 pub use rheology::jamming_law::{

@@ -19,22 +19,41 @@ use crate::rheology::statistics::mean_and_standard_error;
 /// `alpha` (docs/physics.md section 13), and the particle density `rho`, which with the
 /// thermal energy sets the inertia-diffusion ratio `tau_I / tau_B = rho kT / (eta^2 a)`
 /// (section 11): runs of two compositions or two densities are two curves even at one
-/// volume fraction.
+/// volume fraction. So are runs at two time steps (a step-convergence grid): their means
+/// are never pooled as if they were seeds.
 #[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
 pub struct State {
     pub mu_p: f64,
     pub peclet: f64,
     pub alpha: Option<f64>,
     pub rho: f64,
+    pub step: StepSetting,
 }
 
-/// What names a curve over the Peclet number: friction coefficient, composition, density.
-pub type Curve = (f64, Option<f64>, f64);
+/// How a run's time step was set: the scene's `run.dt` (a fixed step, in time units) when it
+/// has one, else `run.dt_factor` times the automatic step.
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+pub struct StepSetting {
+    pub dt: Option<f64>,
+    pub dt_factor: f64,
+}
+
+impl StepSetting {
+    /// The automatic step, as chosen.
+    pub const AUTOMATIC: StepSetting = StepSetting {
+        dt: None,
+        dt_factor: 1.0,
+    };
+}
+
+/// What names a curve over the Peclet number: friction coefficient, composition, density,
+/// time step.
+pub type Curve = (f64, Option<f64>, f64, StepSetting);
 
 impl State {
     /// The curve over the Peclet number this state lies on.
     pub fn curve(&self) -> Curve {
-        (self.mu_p, self.alpha, self.rho)
+        (self.mu_p, self.alpha, self.rho, self.step)
     }
 }
 
@@ -352,6 +371,7 @@ mod tests {
                 peclet,
                 alpha: None,
                 rho: 1.0,
+                step: StepSetting::AUTOMATIC,
             },
             phi: 0.5,
             seed,
@@ -420,6 +440,33 @@ mod tests {
         ];
         let got: Vec<f64> = states(&points).iter().map(|s| s.rho).collect();
         assert_eq!(got, vec![0.05, 0.5]);
+    }
+
+    /// Runs of one seed at the automatic step, at a third of it and at a fixed step (a
+    /// step-convergence grid) are three states, each with its one run, not one state of
+    /// three "seeds" whose mean mixes the steps.
+    #[test]
+    fn runs_at_three_steps_are_three_states() {
+        let with = |dt: Option<f64>, dt_factor: f64, eta_r: f64| StatePoint {
+            state: State {
+                step: StepSetting { dt, dt_factor },
+                ..point(1.0, 1, eta_r).state
+            },
+            ..point(1.0, 1, eta_r)
+        };
+        let points = [
+            with(None, 1.0, 4.0),
+            with(None, 1.0 / 3.0, 3.0),
+            with(Some(1e-3), 1.0, 3.5),
+        ];
+        let found = states(&points);
+        assert_eq!(found.len(), 3);
+        let automatic: Vec<&StatePoint> = points
+            .iter()
+            .filter(|p| p.state.step == StepSetting::AUTOMATIC)
+            .collect();
+        // One run alone: its own value and block error, nothing of the other steps.
+        assert_eq!(over_seeds(&automatic, |p| p.eta_r), vec![(1.0, 4.0, 0.1)]);
     }
 
     #[test]

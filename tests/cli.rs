@@ -1,7 +1,7 @@
 //! End-to-end tests of the `suspflow` command on tiny scenes.
 mod common;
 
-use common::{assert_ok, read_csv, root, scratch, suspflow};
+use common::{assert_ok, read_csv, root, scratch, stderr, suspflow};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -893,7 +893,29 @@ fn coverage_draws_both_planes_and_tabulates_the_ranges_of_the_data() {
         plots.to_str().unwrap(),
     ]);
     assert_ok(&out);
+    // The same again: refused unless --force, the files of the first run kept.
+    let again = |force: &[&str]| {
+        let mut args = vec![
+            "coverage",
+            train.to_str().unwrap(),
+            "--out",
+            plots.to_str().unwrap(),
+        ];
+        args.extend_from_slice(force);
+        suspflow(&args)
+    };
+    let refused = again(&[]);
+    assert!(!refused.status.success());
+    assert!(
+        stderr(&refused).contains("coverage.svg already exists"),
+        "{}",
+        stderr(&refused)
+    );
     let svg = std::fs::read_to_string(plots.join("coverage.svg")).unwrap();
+    assert!(
+        svg.contains("b.csv (1 rows)"),
+        "the first figure was replaced"
+    );
     for label in ["a.csv (3 rows)", "b.csv (1 rows)", "phi_loc", "Theta"] {
         assert!(svg.contains(label), "coverage.svg lacks {label}");
     }
@@ -901,6 +923,7 @@ fn coverage_draws_both_planes_and_tabulates_the_ranges_of_the_data() {
     assert_eq!(svg.matches("<circle").count(), 2 * (4 + 2), "{svg}");
     let table = std::fs::read_to_string(plots.join("coverage.md")).unwrap();
     assert!(String::from_utf8_lossy(&out.stdout).contains(&table));
+    assert_ok(&again(&["--force"]));
     let row = |column: &str| {
         table
             .lines()

@@ -337,6 +337,29 @@ fn plot_draws_one_figure_per_scene() {
             assert!(svg.contains(q), "tiny_00{k}.svg lacks {q}");
         }
     }
+    // Drawn again into the same folder: refused, naming a figure, unless --force.
+    let plots = dir.join("plots");
+    let rerun = |force: bool| {
+        let mut args = vec![
+            "plot",
+            data.to_str().unwrap(),
+            "--out",
+            plots.to_str().unwrap(),
+        ];
+        if force {
+            args.push("--force");
+        }
+        suspflow(&args)
+    };
+    let o = rerun(false);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("tiny_000.svg already exists") && stderr(&o).contains("--force"),
+        "{}",
+        stderr(&o)
+    );
+    let o = rerun(true);
+    assert!(o.status.success(), "{}", stderr(&o));
 }
 
 #[test]

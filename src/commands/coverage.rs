@@ -18,9 +18,12 @@ pub struct Args {
     /// Datasets (per-run or ensemble tables), e.g. the training and the validation set.
     #[arg(required = true)]
     data: Vec<PathBuf>,
-    /// Directory for `coverage.svg` and `coverage.md` (created if missing; both replaced).
+    /// Directory for `coverage.svg` and `coverage.md` (created if missing).
     #[arg(long)]
     out: PathBuf,
+    /// Replace the `coverage.svg` and `coverage.md` of an earlier run in `--out`.
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -30,6 +33,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .map(Dataset::read_csv)
         .collect::<Result<Vec<_>, _>>()?;
     let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow coverage`")?;
+    let (figure, markdown) = (args.out.join("coverage.svg"), args.out.join("coverage.md"));
+    crate::output_guard::refuse_any_unless_force(
+        &[figure.clone(), markdown.clone()],
+        args.force,
+        "the output of `suspflow coverage`",
+        "choose another --out",
+    )?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let names: Vec<String> = args.data.iter().map(|p| file_name(p)).collect();
@@ -50,14 +60,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             sets,
         });
     }
-    let figure = args.out.join("coverage.svg");
     scatter_panels(
         &figure,
         "rows of each dataset in the (J, phi_loc) and (J, Theta) planes",
         &panels,
     )?;
     let table = ranges_table(&datasets, &names)?;
-    let markdown = args.out.join("coverage.md");
     schema::write_atomic(&markdown, table.as_bytes())?;
     print!("{table}");
     println!("\n{}\n{}", figure.display(), markdown.display());

@@ -25,6 +25,9 @@ pub struct Args {
     /// Directory for `<scene_id>.svg`.
     #[arg(long)]
     out: PathBuf,
+    /// Replace figures of the same scenes already in `--out`.
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -32,6 +35,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow plot`")?;
     let ids = data.group_keys()?;
     let scenes = scene_order(ids, &data)?;
+    let figure = |id: &str| args.out.join(format!("{id}.svg"));
+    crate::output_guard::refuse_any_unless_force(
+        &scenes.iter().map(|id| figure(id)).collect::<Vec<_>>(),
+        args.force,
+        "a figure of `suspflow plot`",
+        "choose another --out",
+    )?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let (profile, l_y, phi) = (
@@ -78,7 +88,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             "{id}: u_inf = {}, L_y = {}, phi = {}",
             profile[r0], l_y[r0], phi[r0]
         );
-        let path = args.out.join(format!("{id}.svg"));
+        let path = figure(id);
         profile_panels(&path, &title, &panels)?;
         println!("{}", path.display());
     }

@@ -24,7 +24,11 @@ fn a_figure_replaces_a_link_in_its_place_and_leaves_the_target_alone() {
         .to_owned();
     let figure = out.join(format!("{id}.svg"));
     std::os::unix::fs::symlink(&victim, &figure).unwrap();
-    assert_ok(&suspflow(&["plot", s(&data), "--out", s(&out)]));
+    // Without --force, a figure already there (the link) is refused, the target untouched.
+    let refused = suspflow(&["plot", s(&data), "--out", s(&out)]);
+    assert!(!refused.status.success() && stderr(&refused).contains("--force replaces it"));
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "kept");
+    assert_ok(&suspflow(&["plot", s(&data), "--out", s(&out), "--force"]));
     assert_eq!(std::fs::read_to_string(&victim).unwrap(), "kept");
     let meta = std::fs::symlink_metadata(&figure).unwrap();
     assert!(!meta.is_symlink() && std::fs::read_to_string(&figure).unwrap().contains("<svg"));

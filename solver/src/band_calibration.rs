@@ -19,7 +19,7 @@ use surrogate::{
 
 use crate::bands::{BandCalibration, BandScales, ClosureBands, ProfileBands, BANDED};
 use crate::closure::{Closure, ExtremumClosure, LearnedClosure, NonlocalClosure};
-use crate::closures::ClosureKind;
+use crate::closure_kind::ClosureKind;
 use crate::error::{Result, SolverError};
 use crate::local_fit::fit_local_rheology;
 use crate::problem::ProfileProblem;

@@ -4,16 +4,8 @@
 use surrogate::{LocalRheology, Mapping, Predictor};
 
 use crate::error::{Result, SolverError};
+use crate::smoothing::{EXTREMUM_SMOOTHING_FLOOR, SMOOTHING};
 use crate::theta_balance::ThetaBalance;
-
-/// Relative half-width of the box over which a learned closure is averaged, for J and its
-/// second feature (Delta_v, Theta or d_ext).
-pub const SMOOTHING: f64 = 0.3;
-
-/// Least half-width (units a) of the box in d_ext: the distance to a velocity extremum goes
-/// to 0 at the faces beside it, where a relative box would shrink to the trees' sharp
-/// splits as the extremum moves.
-pub const EXTREMUM_SMOOTHING_FLOOR: f64 = 0.5;
 
 /// The index of phi_loc and of mu among a closure's outputs `(phi_loc, mu)`.
 pub const PHI_LOC: usize = 0;

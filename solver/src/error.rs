@@ -19,7 +19,7 @@ impl std::fmt::Display for Stall {
                 f,
                 "{limit} iterations were not enough (a closure of boosted trees is \
                  piecewise constant, smoothed only over +-{:.0} % in J and Delta_v, Theta or d_ext)",
-                100.0 * crate::closure::SMOOTHING
+                100.0 * crate::smoothing::SMOOTHING
             ),
             Stall::SingularJacobian => write!(
                 f,
@@ -31,7 +31,7 @@ impl std::fmt::Display for Stall {
                 "{window} Newton iterations in a row did not halve the residual (a closure of \
                  boosted trees is piecewise constant, smoothed only over +-{:.0} % in J and \
                  Delta_v, Theta or d_ext)",
-                100.0 * crate::closure::SMOOTHING
+                100.0 * crate::smoothing::SMOOTHING
             ),
         }
     }

@@ -14,12 +14,14 @@
 pub mod band_calibration;
 pub mod bands;
 pub mod closure;
+pub mod closure_kind;
 pub mod closures;
 pub mod error;
 pub mod local_fit;
 pub mod newton;
 pub mod problem;
 pub mod proposal;
+pub mod smoothing;
 pub mod solution;
 pub mod solved_profile;
 pub mod theta_balance;
@@ -29,14 +31,15 @@ pub use band_calibration::{calibrate_bands, ShippedModel};
 pub use bands::{BandCalibration, BandScales, ClosureBands, ProfileBands, BANDED};
 pub use closure::{
     Closure, ClosureInterval, Descriptor, ExtremumClosure, LearnedClosure, NonlocalClosure,
-    EXTREMUM_SMOOTHING_FLOOR, SMOOTHING,
 };
-pub use closures::{Bands, ClosureKind, Closures};
+pub use closure_kind::ClosureKind;
+pub use closures::{Bands, Closures};
 pub use error::{Result, SolverError, Stall};
 pub use local_fit::fit_local_rheology;
 pub use newton::TOLERANCE;
 pub use problem::ProfileProblem;
 pub use proposal::{Candidate, Outcome, Proposal};
+pub use smoothing::{EXTREMUM_SMOOTHING_FLOOR, SMOOTHING};
 pub use solution::ProfileSolution;
 pub use solved_profile::{BandSummary, SolveSummary, SolvedProfile};
 pub use theta_balance::{ThetaBalance, ThetaBalanceFit};

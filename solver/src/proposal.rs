@@ -29,7 +29,8 @@ use serde::Serialize;
 use sim::{Grid, GridRun};
 use toml::{Table, Value};
 
-use crate::closures::{Bands, ClosureKind, Closures};
+use crate::closure_kind::ClosureKind;
+use crate::closures::{Bands, Closures};
 use crate::error::{Result, SolverError};
 use crate::problem::ProfileProblem;
 

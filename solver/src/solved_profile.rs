@@ -5,7 +5,7 @@
 //! `summary.json` ([`SolveSummary`], read back by that type) and the scene it solved
 //! (`scene.toml`).
 use crate::bands::{ProfileBands, BANDED};
-use crate::closures::ClosureKind;
+use crate::closure_kind::ClosureKind;
 use crate::error::{Result, SolverError};
 use crate::problem::ProfileProblem;
 use crate::solution::ProfileSolution;

@@ -44,7 +44,8 @@ pub use models::intervals::{
     Intervals, ModelIntervals, DEFAULT_LEVEL, QUANTILE_LEVELS,
 };
 pub use models::metrics::relative_l2_error;
-pub use models::model::{ModelMeta, TrainedModel, TrainingData};
+pub use models::model::TrainedModel;
+pub use models::model_meta::{ModelMeta, TrainingData};
 pub use models::prediction_table::PredictionTable;
 pub use models::predictor::{Prediction, Predictor};
 pub use rheology::agreement::{agreement, Agreement};

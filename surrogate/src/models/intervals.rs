@@ -40,7 +40,7 @@ use crate::data::physical_range::clip_to_physical_range;
 use crate::error::{Result, SurrogateError};
 use crate::models::booster::Booster;
 use crate::models::forest::Forest;
-use crate::models::model::ModelMeta;
+use crate::models::model_meta::ModelMeta;
 use crate::rheology::statistics::standard_normal_quantile;
 
 /// The level of the intervals the commands report unless asked for another.

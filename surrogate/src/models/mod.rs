@@ -8,6 +8,7 @@ pub mod forest;
 pub mod intervals;
 pub mod metrics;
 pub mod model;
+pub mod model_meta;
 pub mod prediction_table;
 pub mod predictor;
 pub(crate) mod xgboost_json;

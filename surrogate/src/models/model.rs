@@ -1,17 +1,13 @@
 //! A trained mapping: an XGBoost booster on min-max scaled outputs, plus the sidecar that says
 //! how to use it (`<mapping>.meta.json` next to `<mapping>.json`).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use ndarray::{Array2, ArrayView2};
-use schema::Fingerprint;
-use serde::{Deserialize, Serialize};
 
 use crate::data::dataset::Dataset;
-use crate::data::extremum_distance::with_derived_features;
 use crate::data::files;
 use crate::data::mapping::Mapping;
-use crate::data::physical_range::clip_to_physical_range;
 use crate::data::samples::Samples;
 use crate::data::scaling::MinMaxScaling;
 use crate::data::training_domain::TrainingDomain;
@@ -21,44 +17,8 @@ use crate::models::intervals::{
     load_intervals, tree_targets, IntervalCalibration, Intervals, ModelIntervals, QUANTILE_LEVELS,
 };
 use crate::models::metrics::relative_l2_error;
-use crate::models::xgboost_json::ShapeJson;
+use crate::models::model_meta::{ModelMeta, ModelPaths, TrainingData};
 use crate::rheology::backbone::Backbone;
-
-/// Everything about a trained model except its trees.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ModelMeta {
-    /// Name of the [`Mapping`].
-    pub mapping: String,
-    /// Feature columns, in the order the booster reads them.
-    pub features: Vec<String>,
-    /// Output columns, in the order the booster predicts them.
-    pub outputs: Vec<String>,
-    /// Ranges of the outputs in the training set (eq 6.4, also the metric's scaling); the
-    /// booster predicts scaled outputs, or scaled residuals when there is a backbone.
-    pub scaling: MinMaxScaling,
-    /// The physics backbone whose residual the trees learn, for models trained with
-    /// [`HyperParameters::backbone`].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub backbone: Option<Backbone>,
-    pub hyper_parameters: HyperParameters,
-    pub training_data: TrainingData,
-    /// Version of the XGBoost library that trained the booster.
-    pub xgboost_version: String,
-}
-
-/// Which data a model was trained on.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct TrainingData {
-    /// The file (or other source) the rows came from.
-    pub source: String,
-    /// FNV-1a 64 hash of that source's bytes, as 16 hex digits.
-    pub fnv1a_64: Fingerprint,
-    /// Number of rows used for training.
-    pub rows: usize,
-    /// Rows of the source left out because a cell of the mapping's columns was empty.
-    #[serde(default)]
-    pub skipped_rows: usize,
-}
 
 /// A booster with its sidecar, the training domain of its features and, once calibrated, its
 /// prediction intervals ([`crate::models::intervals`]).
@@ -266,7 +226,8 @@ impl TrainedModel {
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         // XGBoost reads the trees itself; their count is checked where they are walked.
         let read = |path: &Path, json: &[u8]| Booster::from_json(json, path);
-        let (meta, booster, domain) = ModelMeta::load_with(dir, name, read, |_| None)?;
+        let (meta, booster, domain) =
+            crate::models::bundle::load_bundle(dir, name, read, |_| None)?;
         let intervals = load_intervals(dir, &meta, read, |b| (b.n_features(), b.n_outputs()))?;
         Ok(TrainedModel {
             meta,
@@ -274,249 +235,6 @@ impl TrainedModel {
             domain,
             intervals,
         })
-    }
-}
-
-impl ModelMeta {
-    /// The training data file the sidecar names (`training_data.source`), for a model saved
-    /// in `model_dir`: an absolute path as it is; a relative one is taken relative to the
-    /// folder holding `model_dir` (`suspflow train` records it so: the shipped
-    /// `models/*.meta.json` name `datasets/...` beside `models/`), or, when no file is there,
-    /// relative to `model_dir` itself. The current directory plays no part, so a model is
-    /// found with its data from anywhere. The path is returned even when no file is there
-    /// (readers then name it).
-    pub fn training_file(&self, model_dir: &Path) -> PathBuf {
-        let source = Path::new(&self.training_data.source);
-        if source.is_absolute() {
-            return source.to_path_buf();
-        }
-        let dir = std::fs::canonicalize(model_dir)
-            .or_else(|_| std::path::absolute(model_dir))
-            .unwrap_or_else(|_| model_dir.to_path_buf());
-        let beside = dir.parent().unwrap_or(&dir).join(source);
-        let inside = dir.join(source);
-        if !beside.exists() && inside.exists() {
-            inside
-        } else {
-            beside
-        }
-    }
-
-    /// The hyper-parameters of the model of mapping `name` saved in `dir` (its sidecar's).
-    pub fn load_params(dir: &Path, name: &str) -> Result<HyperParameters> {
-        let meta: ModelMeta =
-            files::read_json(&ModelPaths::new(dir, name).meta, "a model sidecar")?;
-        Ok(meta.hyper_parameters)
-    }
-
-    /// How `train` records `data` for a model saved in `model_dir` ([`ModelMeta::training_file`]
-    /// reads it back): relative to the folder holding `model_dir` when `data` lies below it,
-    /// else as an absolute path.
-    pub fn recorded_source(data: &Path, model_dir: &Path) -> String {
-        let absolute = |p: &Path| {
-            std::fs::canonicalize(p)
-                .or_else(|_| std::path::absolute(p))
-                .unwrap_or_else(|_| p.to_path_buf())
-        };
-        let data = absolute(data);
-        let dir = absolute(model_dir);
-        let base = dir.parent().unwrap_or(&dir);
-        data.strip_prefix(base)
-            .map_or_else(|_| data.clone(), Path::to_path_buf)
-            .display()
-            .to_string()
-    }
-
-    /// Outputs in original units from the trees' predictions `scaled` for rows `features`:
-    /// unscaled outputs, or the backbone plus unscaled residuals, clipped into their
-    /// [`physical_range`](crate::data::physical_range::physical_range).
-    pub fn outputs(
-        &self,
-        features: ArrayView2<f64>,
-        scaled: ArrayView2<f64>,
-    ) -> Result<Array2<f64>> {
-        Ok(self.outputs_counting_clips(features, scaled)?.0)
-    }
-
-    /// [`ModelMeta::outputs`], with the number of cells the physical range clipped.
-    pub fn outputs_counting_clips(
-        &self,
-        features: ArrayView2<f64>,
-        scaled: ArrayView2<f64>,
-    ) -> Result<(Array2<f64>, usize)> {
-        let mut values = match &self.backbone {
-            None => self.scaling.unscale(scaled)?,
-            Some(backbone) => backbone.outputs(&self.features, &self.outputs, features, scaled)?,
-        };
-        let clipped = clip_to_physical_range(&self.outputs, &mut values);
-        Ok((values, clipped))
-    }
-
-    /// The feature columns of `dataset`, in the model's order, as a matrix of finite numbers;
-    /// a missing column is a [`SurrogateError::FeatureMismatch`].
-    pub fn feature_matrix(&self, dataset: &Dataset) -> Result<Array2<f64>> {
-        let dataset = &*with_derived_features(dataset, &self.features)?;
-        let available = dataset.column_names();
-        let missing: Vec<&str> = self
-            .features
-            .iter()
-            .filter(|f| !available.contains(f))
-            .map(String::as_str)
-            .collect();
-        if !missing.is_empty() {
-            return Err(SurrogateError::FeatureMismatch {
-                detail: format!(
-                    "{} lacks column(s) {} of the model's features [{}]; its columns are [{}]",
-                    dataset.source_name(),
-                    missing.join(", "),
-                    self.features.join(", "),
-                    available.join(", ")
-                ),
-            });
-        }
-        let names: Vec<&str> = self.features.iter().map(String::as_str).collect();
-        dataset.matrix(&names)
-    }
-
-    /// Reads the sidecar `<dir>/<name>.meta.json`, the trees `<dir>/<name>.json` and the
-    /// training domain `<dir>/<name>.domain.json`, and checks that the sidecar, the trees'
-    /// counts and feature names (read first, from the file's `learner_model_param`, so that a
-    /// model of another mapping is named as such before its trees are read), the domain's
-    /// feature count and mapping `name`'s current definition agree; then reads the trees with
-    /// `load_trees` (the path and its bytes), then checks the whole bundle
-    /// ([`crate::models::bundle::check`]) with the tree count `n_trees` gives. Trees that
-    /// store no feature names are checked by their counts alone.
-    pub(crate) fn load_with<T>(
-        dir: &Path,
-        name: &str,
-        load_trees: impl FnOnce(&Path, &[u8]) -> Result<T>,
-        n_trees: impl FnOnce(&T) -> Option<usize>,
-    ) -> Result<(Self, T, TrainingDomain)> {
-        let mapping = Mapping::by_name(name)?;
-        let paths = ModelPaths::new(dir, name);
-        let (trees_path, meta_path) = (&paths.trees, &paths.meta);
-        let meta: ModelMeta = files::read_json(meta_path, "a model sidecar")?;
-        let trees_json = files::read(trees_path)?;
-        let shape: ShapeJson = files::parse_json(trees_path, &trees_json, "an XGBoost JSON model")?;
-        let (n_features, n_outputs) = shape
-            .learner
-            .learner_model_param
-            .counts(&trees_path.display().to_string())?;
-        let tree_features = shape.learner.feature_names;
-        let domain: TrainingDomain = files::read_json(&paths.domain, "a training domain")?;
-        let mismatch = |detail: String| SurrogateError::FeatureMismatch { detail };
-        if meta.mapping != mapping.name {
-            return Err(mismatch(format!(
-                "{} describes mapping `{}`, not `{}` (the sidecar of another mapping?)",
-                meta_path.display(),
-                meta.mapping,
-                mapping.name
-            )));
-        }
-        for (what, listed, defined) in [
-            ("features", &meta.features, mapping.features),
-            ("outputs", &meta.outputs, mapping.outputs),
-        ] {
-            if listed
-                .iter()
-                .map(String::as_str)
-                .ne(defined.iter().copied())
-            {
-                return Err(mismatch(format!(
-                    "{} lists {what} [{}], mapping `{}` now has [{}]: {}",
-                    meta_path.display(),
-                    listed.join(", "),
-                    mapping.name,
-                    defined.join(", "),
-                    name_differences(defined, listed)
-                )));
-            }
-        }
-        let counted = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
-        if n_outputs != mapping.outputs.len() {
-            return Err(mismatch(format!(
-                "the model {} has {} (learner_model_param.num_target) where mapping `{}` has {} \
-                 ({}): trees of another mapping, or an edited file?",
-                trees_path.display(),
-                counted(n_outputs, "output"),
-                mapping.name,
-                mapping.outputs.len(),
-                mapping.outputs.join(", ")
-            )));
-        }
-        if n_features != mapping.features.len() {
-            return Err(mismatch(format!(
-                "the model {} has {} (learner_model_param.num_feature) where mapping `{}` has {} \
-                 ({}): trees of another mapping, or an edited file?",
-                trees_path.display(),
-                counted(n_features, "feature"),
-                mapping.name,
-                mapping.features.len(),
-                mapping.features.join(", ")
-            )));
-        }
-        if meta.scaling.ranges.len() != meta.outputs.len() {
-            return Err(mismatch(format!(
-                "{} holds {} for its {}",
-                meta_path.display(),
-                counted(meta.scaling.ranges.len(), "scaling range"),
-                counted(meta.outputs.len(), "output")
-            )));
-        }
-        if !tree_features.is_empty() && tree_features != meta.features {
-            return Err(mismatch(format!(
-                "the trees in {} were trained on features [{}], {} lists [{}]: {} (trees of \
-                 another mapping?)",
-                trees_path.display(),
-                tree_features.join(", "),
-                meta_path.display(),
-                meta.features.join(", "),
-                name_differences(&meta.features, &tree_features)
-            )));
-        }
-        if domain.axes.len() != meta.features.len()
-            || !domain
-                .points
-                .len()
-                .is_multiple_of(meta.features.len().max(1))
-        {
-            return Err(mismatch(format!(
-                "{} has {} feature axes and {} coordinates, {} lists {} features",
-                paths.domain.display(),
-                domain.axes.len(),
-                domain.points.len(),
-                meta_path.display(),
-                meta.features.len()
-            )));
-        }
-        let trees = load_trees(trees_path, &trees_json)?;
-        crate::models::bundle::check(&meta, n_trees(&trees), &domain).map_err(|detail| {
-            SurrogateError::InconsistentModel {
-                model: dir.join(name).display().to_string(),
-                detail,
-            }
-        })?;
-        Ok((meta, trees, domain))
-    }
-}
-
-/// The files of a saved model.
-struct ModelPaths {
-    /// `<dir>/<name>.json`: the trees (XGBoost JSON).
-    trees: PathBuf,
-    /// `<dir>/<name>.meta.json`: the sidecar.
-    meta: PathBuf,
-    /// `<dir>/<name>.domain.json`: the training domain.
-    domain: PathBuf,
-}
-
-impl ModelPaths {
-    fn new(dir: &Path, name: &str) -> Self {
-        ModelPaths {
-            trees: dir.join(format!("{name}.json")),
-            meta: dir.join(format!("{name}.meta.json")),
-            domain: dir.join(format!("{name}.domain.json")),
-        }
     }
 }
 

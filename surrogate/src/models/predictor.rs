@@ -10,9 +10,11 @@ use ndarray::{Array2, ArrayView2};
 use crate::data::dataset::Dataset;
 use crate::data::training_domain::{DomainCheck, TrainingDomain};
 use crate::error::Result;
+use crate::models::bundle::load_bundle;
 use crate::models::forest::Forest;
 use crate::models::intervals::{check_level, load_intervals, widen, Intervals, ModelIntervals};
-use crate::models::model::{ModelMeta, TrainedModel};
+use crate::models::model::TrainedModel;
+use crate::models::model_meta::ModelMeta;
 
 /// A saved model, ready to predict, with its intervals when it was saved with them.
 #[derive(Debug, Clone)]
@@ -43,8 +45,7 @@ impl Predictor {
     pub fn load(dir: &Path, name: &str) -> Result<Self> {
         let read_trees =
             |path: &Path, json: &[u8]| Forest::from_json(json, &path.display().to_string());
-        let (meta, forest, domain) =
-            ModelMeta::load_with(dir, name, read_trees, |f| Some(f.n_trees()))?;
+        let (meta, forest, domain) = load_bundle(dir, name, read_trees, |f| Some(f.n_trees()))?;
         let intervals =
             load_intervals(dir, &meta, read_trees, |f| (f.n_features(), f.n_outputs()))?;
         Ok(Predictor {

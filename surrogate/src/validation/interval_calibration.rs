@@ -35,7 +35,8 @@ use crate::models::intervals::{
     check_level, mean_widths, quantile_ends, widen, CalibrationRows, IntervalCalibration,
     Intervals, DEFAULT_LEVEL, QUANTILE_LEVELS,
 };
-use crate::models::model::{ModelMeta, TrainedModel};
+use crate::models::model::TrainedModel;
+use crate::models::model_meta::ModelMeta;
 use crate::validation::family_folds::{tuning_folds, LeftOut};
 
 /// Per-fold coverage below this, or above [`FOLD_COVERAGE_HIGH`], is counted as a fold the

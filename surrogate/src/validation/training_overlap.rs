@@ -12,7 +12,8 @@ use crate::data::dataset::Dataset;
 use crate::data::mapping::Mapping;
 use crate::data::samples::Samples;
 use crate::error::{Result, SurrogateError};
-use crate::models::model::{TrainedModel, TrainingData};
+use crate::models::model::TrainedModel;
+use crate::models::model_meta::TrainingData;
 
 /// Whether `fingerprint` (FNV-1a 64 of a table's bytes) is the one `recorded` holds.
 fn is_recorded(recorded: &TrainingData, fingerprint: Fingerprint) -> bool {
@@ -39,7 +40,7 @@ pub fn shared_rows(training: &Samples, validation: &Samples) -> usize {
 /// A warning if `validation` (the rows of `data` that `model`'s mapping reads) is, or
 /// overlaps, the data `model` was trained on (the file its sidecar names, when it still
 /// holds the recorded bytes, found from the model folder `models` as
-/// [`crate::models::model::ModelMeta::training_file`] says); `None` when they are disjoint or the training file is gone.
+/// [`crate::models::model_meta::ModelMeta::training_file`] says); `None` when they are disjoint or the training file is gone.
 pub fn overlap_warning(
     model: &TrainedModel,
     models: &Path,

@@ -1522,7 +1522,19 @@ fn a_model_bundle_whose_parts_disagree_is_refused_on_load() {
         f(&mut v);
         std::fs::write(path, serde_json::to_string(&v).unwrap()).unwrap();
     }
-    let cases: [(&str, Damage, &str); 7] = [
+    let cases: [(&str, Damage, &str); 9] = [
+        (
+            "dv",
+            |m| std::fs::copy(m.join("mu.json"), m.join("dv.json")).map(drop).unwrap(),
+            "has 1 output (learner_model_param.num_target) where mapping `dv` has 2 (phi_loc, mu)",
+        ),
+        (
+            "dv",
+            |m| edit_json(&m.join("dv.json"), |v| {
+                v["learner"]["learner_model_param"]["num_feature"] = "4".into()
+            }),
+            "has 4 features (learner_model_param.num_feature) where mapping `dv` has 3 (J, Delta_v, phi)",
+        ),
         (
             "dv",
             |m| std::fs::copy(m.join("mu.domain.json"), m.join("dv.domain.json")).map(drop).unwrap(),

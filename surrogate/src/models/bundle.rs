@@ -145,27 +145,21 @@ pub(crate) fn load_bundle<T>(
         }
     }
     let counted = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
-    if n_outputs != mapping.outputs.len() {
-        return Err(mismatch(format!(
-            "the model {} has {} (learner_model_param.num_target) where mapping `{}` has {} \
-             ({}): trees of another mapping, or an edited file?",
-            trees_path.display(),
-            counted(n_outputs, "output"),
-            mapping.name,
-            mapping.outputs.len(),
-            mapping.outputs.join(", ")
-        )));
-    }
-    if n_features != mapping.features.len() {
-        return Err(mismatch(format!(
-            "the model {} has {} (learner_model_param.num_feature) where mapping `{}` has {} \
-             ({}): trees of another mapping, or an edited file?",
-            trees_path.display(),
-            counted(n_features, "feature"),
-            mapping.name,
-            mapping.features.len(),
-            mapping.features.join(", ")
-        )));
+    for (found, defined, what, param) in [
+        (n_outputs, mapping.outputs, "output", "num_target"),
+        (n_features, mapping.features, "feature", "num_feature"),
+    ] {
+        if found != defined.len() {
+            return Err(mismatch(format!(
+                "the model {} has {} (learner_model_param.{param}) where mapping `{}` has {} \
+                 ({}): trees of another mapping, or an edited file?",
+                trees_path.display(),
+                counted(found, what),
+                mapping.name,
+                defined.len(),
+                defined.join(", ")
+            )));
+        }
     }
     if meta.scaling.ranges.len() != meta.outputs.len() {
         return Err(mismatch(format!(

@@ -10,8 +10,9 @@ use std::path::PathBuf;
 use surrogate::CONVENTIONS;
 
 /// One fit of the jamming law `eta_r = (1 - phi/phi_J)^(-lambda)`: the state (mu_p, peclet,
-/// alpha, rho, dt_factor and the fixed dt if any), the stress convention, phi_J and its standard error, lambda and its standard
-/// error (`None` where the points could not be fitted), and why not.
+/// alpha, rho, dt_factor and the fixed dt if any), the stress convention, phi_J and its
+/// standard error, lambda and its standard error (`None` where the points could not be
+/// fitted), and why not.
 type FitRecord = (
     f64,
     f64,

@@ -12,14 +12,22 @@ pub enum Stall {
     NoProgress(usize),
 }
 
+/// Why Newton's method can stall on a learned closure, for the messages of [`Stall`].
+fn trees_are_piecewise_constant() -> String {
+    format!(
+        "a closure of boosted trees is piecewise constant, smoothed only over +-{:.0} % in J \
+         and Delta_v, Theta or d_ext",
+        100.0 * crate::smoothing::SMOOTHING
+    )
+}
+
 impl std::fmt::Display for Stall {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Stall::IterationLimit(limit) => write!(
                 f,
-                "{limit} iterations were not enough (a closure of boosted trees is \
-                 piecewise constant, smoothed only over +-{:.0} % in J and Delta_v, Theta or d_ext)",
-                100.0 * crate::smoothing::SMOOTHING
+                "{limit} iterations were not enough ({})",
+                trees_are_piecewise_constant()
             ),
             Stall::SingularJacobian => write!(
                 f,
@@ -28,10 +36,8 @@ impl std::fmt::Display for Stall {
             ),
             Stall::NoProgress(window) => write!(
                 f,
-                "{window} Newton iterations in a row did not halve the residual (a closure of \
-                 boosted trees is piecewise constant, smoothed only over +-{:.0} % in J and \
-                 Delta_v, Theta or d_ext)",
-                100.0 * crate::smoothing::SMOOTHING
+                "{window} Newton iterations in a row did not halve the residual ({})",
+                trees_are_piecewise_constant()
             ),
         }
     }

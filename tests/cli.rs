@@ -693,6 +693,10 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
         // The grid's density and the inertia-diffusion ratio rho kT / (eta^2 a) it sets.
         assert_eq!(value(row, "rho"), 0.5);
         assert!((value(row, "tau_i_over_tau_b") / (0.5 * kt) - 1.0).abs() < 1e-9);
+        // Each run's step and code version, from its summary.json.
+        assert!(value(row, "dt") > 0.0, "{row:?}");
+        let version = &row[run.header.iter().position(|h| h == "code_version").unwrap()];
+        assert!(version.starts_with(env!("CARGO_PKG_VERSION")), "{version}");
         // The box's eta_r is the contact and lubrication parts (identity of the split);
         // the structural Brownian part is positive (a shear-thinning stress) and beside it.
         let parts = value(row, "eta_r_contact") + value(row, "eta_r_hydrodynamic");

@@ -185,8 +185,9 @@ pub(crate) fn replicas(green_kubo: &[GreenKuboResult]) -> Vec<(f64, f64, f64)> {
 /// other scenes).
 ///
 /// Tables written before a column existed still read back: the columns added since the first
-/// tables (the state, the parts, the composition, the density) are NaN, or none, where they
-/// are missing, and the state of a redrawn point comes from its grid ([`FlowCurveRow::point`]).
+/// tables (the state, the parts, the composition, the density, the step, the code version)
+/// are NaN, or none, where they are missing, and the state of a redrawn point comes from its
+/// grid ([`FlowCurveRow::point`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FlowCurveRow {
     pub scene_id: String,
@@ -249,6 +250,12 @@ pub struct FlowCurveRow {
     pub rho: f64,
     #[serde(default)]
     pub tau_i_over_tau_b: Option<f64>,
+    /// The time step the run took (its `summary.json`).
+    #[serde(default = "not_recorded")]
+    pub dt: f64,
+    /// The version of the code that made the run (its `summary.json`).
+    #[serde(default)]
+    pub code_version: Option<String>,
 }
 
 /// A value of a column that an older table lacks.
@@ -300,6 +307,8 @@ impl FlowCurveRow {
             peclet_cg: c.and_then(|c| c.peclet_cg),
             rho: p.state.rho,
             tau_i_over_tau_b: point.inertia_diffusion,
+            dt: s.dt,
+            code_version: Some(s.code_version.clone()),
         }
     }
 
@@ -382,6 +391,7 @@ mod tests {
         assert_eq!((row.eta_r, row.mu, row.j), (20.0, 0.4, 0.02));
         assert!(row.eta_r_contact.is_nan() && row.rho.is_nan() && row.peclet.is_nan());
         assert_eq!((row.alpha, row.tau_i_over_tau_b), (None, None));
+        assert!(row.dt.is_nan() && row.code_version.is_none());
         let cut = header.replace(",eta_r_bins,eta_r_bins_se", "");
         let short: Vec<&str> = line.split(',').collect();
         std::fs::write(&old, format!("{cut}\n{}\n", short[..17].join(","))).unwrap();

@@ -2,6 +2,7 @@
 //! alpha at fixed liquid volume and at fixed phi, the scenes written back out and read
 //! again, and the refusals naming the field.
 use sim::input::grid::Grid;
+use sim::input::initial_state::{initial_particles, PACKING_GAP};
 use sim::input::scene::Scene;
 
 /// A sheared Brownian box wide enough for grains of radius 7 (three neighbour cells of
@@ -165,4 +166,52 @@ fn contradictions_and_gaps_are_refused_naming_the_field() {
             "{particles}: {message}"
         );
     }
+}
+
+#[test]
+fn a_mixture_packs_beyond_the_densest_single_species() {
+    // Colloids added to grains at 0.55 until alpha = 0.6 (thesis Fig. 5.2): phi 0.671,
+    // beyond the 0.64 at which one species jams. The scene is accepted and its packing is
+    // made without a pair closer than the packing gap.
+    let scene = |alpha: f64| {
+        Scene::from_toml(
+            &format!(
+                "name = \"dense\"\n[box]\nl_x = 46.0\nl_y = 46.0\nl_z = 46.0\n\
+                 [fluid]\nshear_rate = 0.01\n[particles]\nmixture = {{ alpha = {alpha}, \
+                 initial = {{ species = \"grains\", phi = 0.55 }} }}\n"
+            ),
+            false,
+        )
+    };
+    let s = scene(0.6).unwrap();
+    assert!(
+        (s.file.particles.phi - 0.671).abs() < 6e-4,
+        "{}",
+        s.file.particles.phi
+    );
+    let p = initial_particles(&s).unwrap();
+    let l = s.box_len;
+    let mut closest = f64::INFINITY;
+    for i in 0..p.len() {
+        for j in i + 1..p.len() {
+            let d = p.pos[i] - p.pos[j];
+            let d = [0, 1, 2].map(|k| d[k] - l[k] * (d[k] / l[k]).round());
+            let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            closest = closest.min(r / (p.radius[i] + p.radius[j]));
+        }
+    }
+    assert!(closest >= 1.0 + PACKING_GAP / 2.0 * 0.99, "{closest}");
+    // The grains alone (alpha = 1 at phi 0.66) are one species again: refused.
+    let alone = Scene::from_toml(
+        "name = \"alone\"\n[box]\nl_x = 80.0\nl_y = 80.0\nl_z = 80.0\n[fluid]\n\
+         shear_rate = 0.01\n[particles]\nphi = 0.66\nmixture = { alpha = 1.0 }\n",
+        false,
+    )
+    .map(|_| ())
+    .unwrap_err()
+    .to_string();
+    assert!(
+        alone.contains("`particles.phi`") && alone.contains("0.64"),
+        "{alone}"
+    );
 }

@@ -19,7 +19,7 @@
 use crate::error::SimError;
 use crate::input::scene_file::{default_colloid_radii, ParticleSection};
 pub use crate::input::scene_file::{InitialSuspension, MixtureSection, Species};
-use crate::input::scene_limits::{show, PHI_MAX};
+use crate::input::scene_limits::{densest_mixture_phi, show, PHI_MAX};
 use crate::input::thermal_scales::peclet_number;
 use serde::{Deserialize, Serialize};
 
@@ -121,12 +121,13 @@ impl MixtureSection {
                 ));
             }
             let phi = self.fixed_liquid_phi(initial);
-            if phi > PHI_MAX {
+            let densest = densest_mixture_phi(self.alpha);
+            if phi > densest {
                 return Err(field(
                     "alpha",
                     format!(
                         "adding {} at fixed liquid volume to {} at phi = {} gives phi = {}, \
-                         beyond the densest packing the runs start from ({PHI_MAX})",
+                         beyond the densest packing the runs start from ({densest})",
                         initial.species.other().name(),
                         initial.species.name(),
                         initial.phi,

@@ -5,7 +5,7 @@
 use crate::error::SimError;
 use crate::input::composition;
 use crate::input::scene_file::{MixtureSection, SceneFile};
-use crate::input::scene_limits::{show, PHI_MAX};
+use crate::input::scene_limits::{densest_phi, show, PHI_MAX};
 use crate::input::thermal_scales;
 use schema::scene_name;
 
@@ -49,13 +49,18 @@ pub fn check_sections(file: &mut SceneFile) -> Result<f64, SimError> {
             ),
         ));
     }
-    if !(p.phi > 0.0 && p.phi <= PHI_MAX) {
+    let densest = densest_phi(p);
+    if !(p.phi > 0.0 && p.phi <= densest) {
+        let measured = if densest > PHI_MAX {
+            "the initial packing reaches it for the thesis' colloid-grain mixtures"
+        } else {
+            "the initial packing reaches it and jams at 0.645 (measured for radii 1 : 1, \
+             1 : 1.4 and 1 : 3; only a crystal is denser)"
+        };
         return Err(SimError::field(
             "particles.phi",
             format!(
-                "must lie in (0, {PHI_MAX}]: the initial packing reaches {PHI_MAX} and \
-                 jams at 0.645 (measured for radii 1 : 1, 1 : 1.4 and 1 : 3; only a \
-                 crystal is denser), got {}",
+                "must lie in (0, {densest}]: {measured}, got {}",
                 show(p.phi)
             ),
         ));

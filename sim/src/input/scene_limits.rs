@@ -7,7 +7,7 @@
 //! run is limited separately by [`crate::input::run_cost`].
 use crate::error::SimError;
 use crate::input::flow_profile::FlowProfile;
-use crate::input::scene_file::SceneFile;
+use crate::input::scene_file::{ParticleSection, SceneFile};
 
 /// The accepted range `[min, max]` of one scene value, in its own units.
 struct Range {
@@ -27,6 +27,37 @@ struct Range {
 /// still jam for some seeds and radii; the run then stops at once saying so. (0.74 is
 /// reached only by the crystal, which a random packing never finds.)
 pub const PHI_MAX: f64 = 0.64;
+
+/// Densest volume fraction accepted for a colloid-grain mixture (`[particles.mixture]`):
+/// radii five times apart pack denser than one species, the small spheres filling the large
+/// ones' voids (thesis section 5.3). Measured with the run's packer and gap in the thesis'
+/// box (`cargo run --release -p sim --example densest_packing -- 66 0.02 mixture ...`, seed
+/// 1, the default species, 2026-12-05, machine shared): alpha 0.4 packed at 0.70 (not
+/// 0.72), 0.6 at 0.671-0.73 (not 0.75), 0.7 at 0.70 and 0.72, 0.8 at 0.68 and 0.70, 0.9 at
+/// 0.66 and 0.68, in 2-50 s (N 3300-20,000). Nearer one species less: alpha 0.95 packed
+/// at 0.66 and jammed at 0.68, alpha 0.2 (box 46) did not pack at 0.688. A composition
+/// that does not pack ends with the packer's error: within seconds when it jams, after its
+/// iteration cap (3-7 minutes at N ~ 1e4-2e4) when it only fails to clear its overlaps.
+pub const MIXTURE_PHI_MAX: f64 = 0.70;
+
+/// The densest volume fraction accepted for `particles`: that of
+/// [`densest_mixture_phi`] for a colloid-grain mixture, [`PHI_MAX`] otherwise.
+pub fn densest_phi(particles: &ParticleSection) -> f64 {
+    particles
+        .mixture
+        .as_ref()
+        .map_or(PHI_MAX, |m| densest_mixture_phi(m.alpha))
+}
+
+/// The densest volume fraction accepted for a colloid-grain mixture of grain share
+/// `alpha`: [`MIXTURE_PHI_MAX`] with both species present, [`PHI_MAX`] for one alone.
+pub fn densest_mixture_phi(alpha: f64) -> f64 {
+    if alpha > 0.0 && alpha < 1.0 {
+        MIXTURE_PHI_MAX
+    } else {
+        PHI_MAX
+    }
+}
 
 /// Largest ratio of the largest to the smallest radius: beyond it the cell list, sized by
 /// the largest pair, holds thousands of small spheres per cell and the small spheres'

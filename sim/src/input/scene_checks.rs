@@ -52,15 +52,16 @@ pub fn check_sections(file: &mut SceneFile) -> Result<f64, SimError> {
     let densest = densest_phi(p);
     if !(p.phi > 0.0 && p.phi <= densest) {
         let measured = if densest > PHI_MAX {
-            "the initial packing reaches it for the thesis' colloid-grain mixtures"
+            "for the thesis' colloid-grain mixtures"
         } else {
-            "the initial packing reaches it and jams at 0.645 (measured for radii 1 : 1, \
-             1 : 1.4 and 1 : 3; only a crystal is denser)"
+            "and jams at 0.645 (measured for radii 1 : 1, 1 : 1.4 and 1 : 3; only a crystal \
+             is denser)"
         };
         return Err(SimError::field(
             "particles.phi",
             format!(
-                "must lie in (0, {densest}]: {measured}, got {}",
+                "must lie in (0, {densest}]: the initial packing reaches {densest} {measured}, \
+                 got {}",
                 show(p.phi)
             ),
         ));

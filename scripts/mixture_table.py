@@ -71,8 +71,10 @@ def main():
                      f"{r['eta_r']}")
         unique.setdefault(key, r)
     rows = list(unique.values())
+    # Runs without Brownian forces have no Peclet number (infinite): last of their state.
     rows.sort(key=lambda r: (float(r["alpha"]), float(r["phi"]), float(r["mu_p"]),
-                             float(r["peclet_c"]), int(r["seed"]), float(r["dt"] or 0)))
+                             float(r["peclet_c"] or "inf"), int(r["seed"]),
+                             float(r["dt"] or 0)))
     with open(args.out, "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=COLUMNS + RECORDED)
         writer.writeheader()

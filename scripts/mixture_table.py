@@ -2,11 +2,12 @@
 """The viscosity table of colloid-grain mixtures (issue 29): the mixture rows of one or
 more `suspflow flow-curves` tables (flow_curves.csv, whose last columns carry a mixture's
 composition and Peclet numbers), reduced to the columns the mixture study compares with
-the thesis, sorted by alpha, phi, friction, Pe_c, seed and step; a run found in two tables
-(the same scene, seed and step in two grids, the same bits) is kept once. Nothing is
-computed here: every value is the flow-curves table's. Tables written before flow-curves
-recorded each run's `dt` and `code_version` leave the step empty and name, as the code
-version, the commit that added the table (the runs' code is that commit's or older).
+the thesis, sorted by alpha, phi, friction, Pe_c, seed, density and step; a run found in
+two tables (the same scene, seed, density and step in two grids, the same bits) is kept
+once. Nothing is computed here: every value is the flow-curves table's. Tables written
+before flow-curves recorded each run's `rho`, `dt` and `code_version` leave those empty and
+name, as the code version, the commit that added the table (the runs' code is that
+commit's or older).
 
     python3 scripts/mixture_table.py reports/mixtures/pe1/flow_curves.csv \
         reports/mixtures/grains_pe/flow_curves.csv --out reports/mixtures/viscosity.csv
@@ -23,8 +24,8 @@ COLUMNS = [
     "eta_r_hydrodynamic", "eta_r_hydrodynamic_se", "eta_r_brownian", "eta_r_brownian_se",
     "scene_id",
 ]
-# Columns of newer flow-curves tables.
-RECORDED = ["dt", "code_version"]
+# Columns of newer flow-curves tables: the particle density, the step, the code version.
+RECORDED = ["rho", "dt", "code_version"]
 
 
 def table_commit(path):
@@ -54,27 +55,29 @@ def main():
             table = [r for r in reader if r["alpha"] != ""]
             if not table:
                 sys.exit(f"{path}: no mixture rows (empty `alpha`)")
-            if all(c in reader.fieldnames for c in RECORDED):
-                rows += [{c: r[c] for c in COLUMNS + RECORDED} for r in table]
-            else:
-                version = f"not recorded (table of {table_commit(path)})"
-                unrecorded = {"dt": "", "code_version": version}
-                rows += [{**{c: r[c] for c in COLUMNS}, **unrecorded} for r in table]
-    # A run in two grids (the same scene, seed and step) is one run: identical bits, kept once.
+            unrecorded = None
+            for r in table:
+                row = {c: r.get(c) or "" for c in COLUMNS + RECORDED}
+                if not row["code_version"]:
+                    unrecorded = unrecorded or f"not recorded (table of {table_commit(path)})"
+                    row["code_version"] = unrecorded
+                rows.append(row)
+    # A run in two grids (the same scene, seed, density and step) is one run: identical
+    # bits, kept once.
     unique = {}
     for r in rows:
         key = (r["alpha"], r["phi"], r["mu_p"], r["peclet_c"], r["seed"], r["n_particles"],
-               r["dt"])
+               r["rho"], r["dt"])
         if key in unique and unique[key]["eta_r"] != r["eta_r"]:
             sys.exit(f"two runs of alpha {key[0]}, phi {key[1]}, mu_p {key[2]}, Pe_c {key[3]}, "
-                     f"seed {key[4]}, dt {key[6]} differ: eta_r {unique[key]['eta_r']} and "
-                     f"{r['eta_r']}")
+                     f"seed {key[4]}, rho {key[6]}, dt {key[7]} differ: eta_r "
+                     f"{unique[key]['eta_r']} and {r['eta_r']}")
         unique.setdefault(key, r)
     rows = list(unique.values())
     # Runs without Brownian forces have no Peclet number (infinite): last of their state.
     rows.sort(key=lambda r: (float(r["alpha"]), float(r["phi"]), float(r["mu_p"]),
                              float(r["peclet_c"] or "inf"), int(r["seed"]),
-                             float(r["dt"] or 0)))
+                             float(r["rho"] or 0), float(r["dt"] or 0)))
     with open(args.out, "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=COLUMNS + RECORDED)
         writer.writeheader()

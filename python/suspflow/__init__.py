@@ -530,8 +530,9 @@ def flow_curves(
     standard error ``_se``); ``fits`` one row per state (``mu_p``, ``peclet``, ``alpha``,
     ``rho``, ``dt_factor``: the multiple of the automatic time step, ``dt``: the fixed step
     where the scene sets one, else NaN) and stress ``convention`` of the jamming law
-    ``eta_r = (1 - phi/phi_J)^-lambda``: ``phi_J``, ``phi_J_se``, ``lambda``, ``lambda_se`` (NaN with the reason in ``error``
-    where the points cannot be fitted). Runs not finished are named in a warning."""
+    ``eta_r = (1 - phi/phi_J)^-lambda``: ``phi_J``, ``phi_J_se``, ``lambda``, ``lambda_se``
+    (NaN with the reason in ``error`` where the points cannot be fitted). Runs not finished
+    are named in a warning."""
     table, fits, missing = _native.flow_curves(
         os.fspath(grid), os.fspath(runs), [os.fspath(g) for g in green_kubo]
     )

@@ -4,6 +4,7 @@
 use sim::input::grid::Grid;
 use sim::input::initial_state::{initial_particles, PACKING_GAP};
 use sim::input::scene::Scene;
+use sim::state::periodic_box::PeriodicBox;
 
 /// A sheared Brownian box wide enough for grains of radius 7 (three neighbour cells of
 /// 14.8 a along y: the lubrication taper reaches 0.7 a past contact), Pe_c = 1.
@@ -190,13 +191,11 @@ fn a_mixture_packs_beyond_the_densest_single_species() {
         s.file.particles.phi
     );
     let p = initial_particles(&s).unwrap();
-    let l = s.box_len;
+    let periodic = PeriodicBox::new(s.box_len);
     let mut closest = f64::INFINITY;
     for i in 0..p.len() {
         for j in i + 1..p.len() {
-            let d = p.pos[i] - p.pos[j];
-            let d = [0, 1, 2].map(|k| d[k] - l[k] * (d[k] / l[k]).round());
-            let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let r = periodic.separation(&p.pos[i], &p.pos[j]).norm();
             closest = closest.min(r / (p.radius[i] + p.radius[j]));
         }
     }

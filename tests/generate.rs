@@ -6,7 +6,7 @@ mod common;
 
 use common::{csv_column, numbers, root, scratch, stderr, suspflow};
 use sim::run::batch::RunTableRow;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
@@ -19,7 +19,12 @@ fn generate(grid: &str, out: &Path, extra: &[&str]) -> Output {
 
 /// The dataset of the tiny grid run once without interruption.
 fn whole_tiny() -> &'static String {
-    static WHOLE: OnceLock<String> = OnceLock::new();
+    &whole_tiny_run().1
+}
+
+/// The dataset's path and text of the tiny grid run once without interruption.
+fn whole_tiny_run() -> &'static (PathBuf, String) {
+    static WHOLE: OnceLock<(PathBuf, String)> = OnceLock::new();
     WHOLE.get_or_init(|| {
         let out = scratch("whole").join("tiny.csv");
         let o = generate("tests/grids/tiny.toml", &out, &[]);
@@ -31,8 +36,50 @@ fn whole_tiny() -> &'static String {
             .iter()
             .all(|r| r.status == "done" && r.steps.is_some()));
         assert_eq!((table[2].phi, table[2].seed), (0.5, 3));
-        std::fs::read_to_string(out).unwrap()
+        let text = std::fs::read_to_string(&out).unwrap();
+        (out, text)
     })
+}
+
+/// `--check` brackets each run's particle-steps between its shortest warm-up and its
+/// strain budget, and the shortest is what the tiny grid's runs take: their
+/// `run.steady_chi2` of 1e9 passes the first steady test, after four windows of 0.2 strain
+/// (and 0.8 of averaging: 1.6 strain of the budget's 5.8). Measured against the run table
+/// of the runs themselves (steps x N), within 1 % for the rounding of windows to steps.
+#[test]
+fn check_brackets_the_particle_steps_the_runs_take() {
+    let o = generate(
+        "tests/grids/tiny.toml",
+        &scratch("check-cost").join("tiny.csv"),
+        &["--check"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout).to_string();
+    let rows: Vec<[f64; 2]> = text
+        .lines()
+        .filter(|l| l.starts_with("tiny_"))
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            [f[8].parse().unwrap(), f[9].parse().unwrap()]
+        })
+        .collect();
+    assert_eq!(rows.len(), 4, "{text}");
+    let (out, _) = whole_tiny_run();
+    let table = RunTableRow::read_all(&out.with_extension("scenes.csv")).unwrap();
+    for ([least, most], run) in rows.iter().zip(&table) {
+        // Printed to four digits.
+        assert!(
+            (most / least / (5.8 / 1.6) - 1.0).abs() < 1e-3,
+            "{least} {most}"
+        );
+        let taken = run.steps.unwrap() as f64 * run.n_particles as f64;
+        assert!(
+            (taken / least - 1.0).abs() < 0.01,
+            "{}: {taken:e} particle-steps taken, {least:e} estimated",
+            run.scene_id
+        );
+    }
+    assert!(text.contains("4 runs of 4 scenes"), "{text}");
 }
 
 #[test]

@@ -26,6 +26,7 @@ use rheometry::sweep_tables::{run_counts, work_beside, SweepTables};
 use rheometry::EnsembleSummary;
 use sim::input::grid::{Grid, GridRun};
 use sim::run::batch::{cost, Batch};
+use sim::sampling::steady_state::TREND_WINDOWS;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -208,19 +209,22 @@ fn report(
     Ok(())
 }
 
-/// The runs and their estimated cost, without running.
+/// The runs and their estimated cost, without running: each run's particle-steps at
+/// most, and the whole grid's between its shortest warm-ups and its strain budgets.
 fn print_check(scenes: &[&GridRun]) {
     println!(
-        "{:<14} {:>10} {:>6} {:>6} {:>6} {:>7} {:>7} {:>9} {:>12}  profile",
-        "scene", "seed", "N", "L_y", "phi", "rho", "St", "dt", "part-steps"
+        "{:<14} {:>10} {:>6} {:>6} {:>6} {:>7} {:>7} {:>9} {:>12} {:>12}  profile",
+        "scene", "seed", "N", "L_y", "phi", "rho", "St", "dt", "least", "most"
     );
-    let mut total = 0.0;
+    let (mut least, mut most, mut hours) = (0.0, 0.0, [0.0, 0.0]);
     for gs in scenes {
         let s = &gs.scene;
-        let c = cost(s);
-        total += c;
+        let [l, m] = cost(s);
+        let rate = s.cost().rate;
+        (least, most) = (least + l, most + m);
+        hours = [hours[0] + l / rate / 3600.0, hours[1] + m / rate / 3600.0];
         println!(
-            "{:<14} {:>10} {:>6} {:>6} {:>6.4} {:>7.3} {:>7.4} {:>9.3e} {:>12.3e}  {}",
+            "{:<14} {:>10} {:>6} {:>6} {:>6.4} {:>7.3} {:>7.4} {:>9.3e} {:>12.3e} {:>12.3e}  {}",
             gs.id,
             gs.seed(),
             s.n_particles(),
@@ -229,15 +233,21 @@ fn print_check(scenes: &[&GridRun]) {
             s.rho,
             s.stokes,
             s.timestep.dt,
-            c,
+            l,
+            m,
             s.profile.expr()
         );
     }
     let mut ids: Vec<&str> = scenes.iter().map(|r| r.id.as_str()).collect();
     ids.dedup();
     println!(
-        "{} runs of {} scenes, about {total:.3e} particle-steps (equilibration capped at 10 strain, plus averaging)",
+        "{} runs of {} scenes, {least:.3e} to {most:.3e} particle-steps (warm-up from {} windows \
+         to the strain budget, at most 10, plus averaging): about {:.2} to {:.2} hours here at \
+         the estimated rates",
         scenes.len(),
-        ids.len()
+        ids.len(),
+        TREND_WINDOWS,
+        hours[0],
+        hours[1]
     );
 }

@@ -12,6 +12,7 @@ use crate::output::result_files::{write_results, RESULTS};
 use crate::output::run_summary::{RunOutcome, RunSummary};
 use crate::run::run_folder::{Ended, RunFolder, RunStatus};
 use crate::run::{Progress, RunOptions, SteadyRun};
+use crate::sampling::steady_state::TREND_WINDOWS;
 use schema::write_atomic;
 use schema::RunTable;
 use serde::{Deserialize, Serialize};
@@ -20,12 +21,17 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
-/// Estimated particle-steps of a run up to its strain budget (at most 10) plus its
-/// averaging: the order in which a batch starts its runs, and the cost it announces.
-pub fn cost(scene: &Scene) -> f64 {
+/// Estimated particle-steps of a run, `[least, most]`: its averaging after the shortest
+/// warm-up (the [`TREND_WINDOWS`] windows of `run.window_strain` before the first steady
+/// test; what a run with a loose `run.steady_chi2` takes) or after its strain budget (at
+/// most 10). The most orders a batch's runs, longest first.
+pub fn cost(scene: &Scene) -> [f64; 2] {
     let r = &scene.file.run;
-    let strain = r.max_strain.min(10.0) + r.sample_strain * r.snapshots as f64;
-    scene.steps_per_strain() * strain * scene.n_particles() as f64
+    let budget = r.max_strain.min(10.0);
+    let shortest = (TREND_WINDOWS as f64 * r.window_strain).min(budget);
+    let averaging = r.sample_strain * r.snapshots as f64;
+    let per_strain = scene.steps_per_strain() * scene.n_particles() as f64;
+    [shortest, budget].map(|warmup| per_strain * (warmup + averaging))
 }
 
 /// What a batch tells its front end as it goes (from its worker threads).
@@ -84,8 +90,8 @@ impl<'a> Batch<'a> {
             }
         }
         todo.sort_by(|a, b| {
-            cost(&a.scene)
-                .total_cmp(&cost(&b.scene))
+            cost(&a.scene)[1]
+                .total_cmp(&cost(&b.scene)[1])
                 .then(b.index.cmp(&a.index))
         });
         Ok(todo)

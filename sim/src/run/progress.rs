@@ -100,7 +100,8 @@ impl ProgressLines {
     }
 
     /// The line for `p` when one is due: what the run does, its step and clock, the time
-    /// in the phase and the time left at the phase's pace so far.
+    /// in the phase and the time left at the phase's pace so far (while equilibrating, the
+    /// most: to the end of the budget, which a steady run may not need).
     pub fn line(&mut self, p: &Progress) -> Option<String> {
         let fraction = p.fraction();
         let due = match self.last {
@@ -121,8 +122,12 @@ impl ProgressLines {
         self.last_line = Instant::now();
         let spent = self.phase_started.elapsed().as_secs_f64();
         let left = if fraction > 0.0 && fraction < 1.0 {
+            let bound = match p.phase {
+                Phase::Equilibrating => "at most ",
+                Phase::Averaging => "",
+            };
             format!(
-                ", about {} left",
+                ", {bound}about {} left",
                 describe_seconds(spent * (1.0 - fraction) / fraction)
             )
         } else {
@@ -172,7 +177,8 @@ mod tests {
         assert!(lines.line(&at(Phase::Equilibrating, 0.5, 0)).is_none());
         let line = lines.line(&at(Phase::Equilibrating, 1.2, 0)).unwrap();
         assert!(
-            line.contains("strain 1.20 of budget 10.0 (12 %), step 7"),
+            line.contains("strain 1.20 of budget 10.0 (12 %), step 7")
+                && line.contains(", at most about "),
             "{line}"
         );
         let averaging = lines.line(&at(Phase::Averaging, 3.0, 1)).unwrap();
@@ -181,7 +187,11 @@ mod tests {
             "{averaging}"
         );
         assert!(lines.line(&at(Phase::Averaging, 3.0, 20)).is_none());
-        assert!(lines.line(&at(Phase::Averaging, 3.0, 21)).is_some());
+        let later = lines.line(&at(Phase::Averaging, 3.0, 21)).unwrap();
+        assert!(
+            later.contains(", about ") && !later.contains("at most"),
+            "{later}"
+        );
         // Without progress, a line at least every interval.
         let mut slow = ProgressLines::new(10.0, Duration::ZERO);
         assert!(slow.line(&at(Phase::Averaging, 0.0, 1)).is_some());

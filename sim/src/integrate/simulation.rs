@@ -406,7 +406,8 @@ impl Simulation {
             let (i, j) = self.contacts.max_pair;
             return Err(self.blow_up(i, format!(
                 "overlap with particle {j} is {:.3} of the smaller radius (limit {MAX_OVERLAP_RATIO})",
-                self.contacts.max_overlap_ratio), &format!("contacts too soft for the stress (raise forces.k_n) or {}", dt_hint())));
+                self.contacts.max_overlap_ratio), &format!("contacts too soft for the stress (raise forces.k_n), a flow that jams (particles.phi at or \
+                 above the jamming point of this friction and Peclet number, where the driven contacts load without bound: lower it) or {}", dt_hint())));
         }
         if !self.step.is_multiple_of(ENERGY_CHECK_EVERY) {
             return Ok(());

@@ -278,7 +278,10 @@ impl Scene {
         }
         let thermal = (file.fluid.kt > 0.0)
             .then(|| ThermalScales::new(file.fluid.kt, file.fluid.eta, rho, a_thermal, gdot_max));
-        if let Some(w) = thermal.as_ref().and_then(ThermalScales::warning) {
+        if let Some(w) = thermal
+            .as_ref()
+            .and_then(|t| thermal_scales::inertia_warning(t.kt, file.fluid.eta, rho, a_min))
+        {
             warnings.push(w);
         }
         if let Some(w) = thermal

@@ -33,6 +33,20 @@ pub fn soft_contact_warning(kt: f64, k_n: f64, a: f64) -> Option<String> {
     })
 }
 
+/// The warning when inertia is not negligible against diffusion: the inertia-diffusion
+/// ratio `rho kT / (eta^2 a)` of the smallest radius present `a` (the largest ratio of the
+/// scene; a grains-only scene of a mixture grid is judged by its grains, not by the colloid
+/// radius its Pe_c refers to) above [`INERTIA_DIFFUSION_LIMIT`].
+pub fn inertia_warning(kt: f64, eta: f64, rho: f64, a: f64) -> Option<String> {
+    let ratio = rho * kt / (eta * eta * a);
+    (ratio > INERTIA_DIFFUSION_LIMIT).then(|| {
+        format!(
+            "inertia-diffusion ratio tau_I/tau_B = rho kT/(eta^2 a) = {ratio:.3} > {INERTIA_DIFFUSION_LIMIT}: \
+             the seeds' limit for negligible inertia (thesis 3.8; their Table 4.1 runs at 0.17)"
+        )
+    })
+}
+
 /// Thermal energy and what it sets.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ThermalScales {
@@ -122,17 +136,6 @@ impl ThermalScales {
             peclet: (gdot_max > 0.0).then(|| peclet_number(eta, a, gdot_max, kt)),
         }
     }
-
-    /// The warning when inertia is not negligible against diffusion.
-    pub fn warning(&self) -> Option<String> {
-        (self.inertia_diffusion > INERTIA_DIFFUSION_LIMIT).then(|| {
-            format!(
-                "inertia-diffusion ratio tau_I/tau_B = rho kT/(eta^2 a) = {:.3} > {INERTIA_DIFFUSION_LIMIT}: \
-                 the seeds' limit for negligible inertia (thesis 3.8; their Table 4.1 runs at 0.17)",
-                self.inertia_diffusion
-            )
-        })
-    }
 }
 
 #[cfg(test)]
@@ -147,11 +150,22 @@ mod tests {
         assert!((s.tau_b - 5.88).abs() < 0.01, "{}", s.tau_b);
         assert!((s.tau_i - 1.0).abs() < 1e-12);
         assert!((s.peclet.unwrap() - 1.0).abs() < 0.01, "{:?}", s.peclet);
-        assert!(s.warning().is_some_and(|w| w.contains("0.170")));
+        assert!((s.inertia_diffusion - 0.17).abs() < 1e-12);
         let high = ThermalScales::new(1.7e-6, 0.1, 0.1, 1.0, 9.0e-3);
         assert!((high.peclet.unwrap() / 1e4 - 1.0).abs() < 0.01);
-        assert!(high.warning().is_none());
         assert_eq!(ThermalScales::new(0.017, 0.1, 0.1, 1.0, 0.0).peclet, None);
+    }
+
+    /// Table 4.1's inertia (ratio 0.17) warns; Pe = 1e4 through kT (1.7e-6) does not; a
+    /// radius 20 at Table 4.1's kT (0.0085) does not, so a scene is judged by its smallest
+    /// radius, not by the one its Peclet number refers to.
+    #[test]
+    fn inertia_warns_by_the_smallest_radius() {
+        let w = inertia_warning(0.017, 0.1, 0.1, 1.0).expect("a warning");
+        assert!(w.contains("0.170") && !w.contains("  "), "{w}");
+        assert!(inertia_warning(1.7e-6, 0.1, 0.1, 1.0).is_none());
+        assert!(inertia_warning(0.017, 0.1, 0.1, 20.0).is_none());
+        assert!(inertia_warning(0.017, 0.1, 0.1, 10.0).is_some());
     }
 
     /// Table 4.1's contacts (kT = 0.017, k_n = 1e4: overlap 1.3e-3 a) pass; the same kT

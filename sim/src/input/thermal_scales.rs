@@ -38,7 +38,7 @@ pub fn soft_contact_warning(kt: f64, k_n: f64, a: f64) -> Option<String> {
 /// scene; a grains-only scene of a mixture grid is judged by its grains, not by the colloid
 /// radius its Pe_c refers to) above [`INERTIA_DIFFUSION_LIMIT`].
 pub fn inertia_warning(kt: f64, eta: f64, rho: f64, a: f64) -> Option<String> {
-    let ratio = rho * kt / (eta * eta * a);
+    let ratio = ThermalScales::new(kt, eta, rho, a, 0.0).inertia_diffusion;
     (ratio > INERTIA_DIFFUSION_LIMIT).then(|| {
         format!(
             "inertia-diffusion ratio tau_I/tau_B = rho kT/(eta^2 a) = {ratio:.3} > {INERTIA_DIFFUSION_LIMIT}: \

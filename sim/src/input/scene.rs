@@ -406,9 +406,35 @@ impl Scene {
     /// `window_strain`, `max_strain`) are counted: the largest shear rate (the clock is the
     /// strain), or without flow `1 / tau_B` (the clock counts Brownian times).
     pub fn clock_rate(&self) -> f64 {
+        self.clock_and_rate().1
+    }
+
+    /// What the run's clock counts (see [`Scene::clock_rate`]).
+    pub fn clock(&self) -> Clock {
+        self.clock_and_rate().0
+    }
+
+    fn clock_and_rate(&self) -> (Clock, f64) {
         match (self.gdot_max(), &self.thermal) {
-            (0.0, Some(t)) => 1.0 / t.tau_b,
-            (g, _) => g,
+            (0.0, Some(t)) => (Clock::BrownianTimes, 1.0 / t.tau_b),
+            (g, _) => (Clock::Strain, g),
+        }
+    }
+}
+
+/// What a run's clock counts: the strain under flow, Brownian times `tau_B` without it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Clock {
+    Strain,
+    BrownianTimes,
+}
+
+impl Clock {
+    /// A reading of the clock for a log: `strain 1.25` or `12.00 tau_B`.
+    pub fn show(self, value: f64) -> String {
+        match self {
+            Clock::Strain => format!("strain {value:.2}"),
+            Clock::BrownianTimes => format!("{value:.2} tau_B"),
         }
     }
 }

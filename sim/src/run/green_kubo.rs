@@ -226,6 +226,7 @@ impl Job for GreenKuboJob<'_> {
                 Phase::Averaging
             },
             strain: self.scene.clock_rate() * sim.time,
+            clock: self.scene.clock(),
             max_strain: self.run.warmup_tau_b,
             snapshots: st.series.len(),
             snapshots_target: self.samples(),

@@ -1,6 +1,7 @@
 //! Where a run is, and the progress lines of a run whose output is not a terminal (a batch
 //! job's log): one line every few percent or every few minutes, whichever comes first,
 //! with the step, the clock and an estimate of the time left.
+use crate::input::scene::Clock;
 use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
 
@@ -19,6 +20,8 @@ pub struct Progress {
     pub phase: Phase,
     /// The run's clock: strain, or Brownian times `tau_B` without flow.
     pub strain: f64,
+    /// What `strain` counts.
+    pub clock: Clock,
     /// Budget (steady run) or length (warm-up) of the equilibration, in units of the clock.
     pub max_strain: f64,
     pub snapshots: usize,
@@ -45,16 +48,16 @@ impl Progress {
     }
 
     /// What the run is doing, e.g. `equilibrating: strain 1.25 of budget 30.0` or
-    /// `averaging: snapshot 120 / 1000 at strain 14.20`.
+    /// `averaging: snapshot 120 / 1000 at strain 14.20` (`12.00 tau_B` without flow).
     pub fn describe(&self) -> String {
+        let clock = self.clock.show(self.strain);
         match self.phase {
-            Phase::Equilibrating => format!(
-                "equilibrating: strain {:.2} of budget {:.1}",
-                self.strain, self.max_strain
-            ),
+            Phase::Equilibrating => {
+                format!("equilibrating: {clock} of budget {:.1}", self.max_strain)
+            }
             Phase::Averaging => format!(
-                "averaging: snapshot {} / {} at strain {:.2}",
-                self.snapshots, self.snapshots_target, self.strain
+                "averaging: snapshot {} / {} at {clock}",
+                self.snapshots, self.snapshots_target
             ),
         }
     }
@@ -162,6 +165,7 @@ mod tests {
         Progress {
             phase,
             strain,
+            clock: Clock::Strain,
             max_strain: 10.0,
             snapshots,
             snapshots_target: 200,
@@ -196,5 +200,17 @@ mod tests {
         let mut slow = ProgressLines::new(10.0, Duration::ZERO);
         assert!(slow.line(&at(Phase::Averaging, 0.0, 1)).is_some());
         assert!(slow.line(&at(Phase::Averaging, 0.0, 1)).is_some());
+    }
+
+    /// Without flow the clock counts Brownian times, and the lines say so.
+    #[test]
+    fn a_run_at_rest_counts_brownian_times() {
+        let mut rest = at(Phase::Equilibrating, 12.0, 0);
+        rest.clock = Clock::BrownianTimes;
+        let line = rest.describe();
+        assert_eq!(line, "equilibrating: 12.00 tau_B of budget 10.0", "{line}");
+        rest.phase = Phase::Averaging;
+        let line = rest.describe();
+        assert_eq!(line, "averaging: snapshot 0 / 200 at 12.00 tau_B", "{line}");
     }
 }

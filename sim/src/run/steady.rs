@@ -258,6 +258,7 @@ impl Job for SteadyRun<'_> {
         Progress {
             phase: st.phase,
             strain: self.scene.clock_rate() * sim.time,
+            clock: self.scene.clock(),
             max_strain: r.max_strain,
             snapshots: st.averaging.taken,
             snapshots_target: st.averaging.capacity(),

@@ -797,7 +797,9 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
         "{readme}"
     );
     // Issue 54: the figures drawn again from the table alone (no runs) are those drawn from
-    // the runs, to the byte: the table reads back every number the figures and fits use.
+    // the runs, to the byte: the table reads back every number the figures and fits use;
+    // so is the README from its command on (the state points, the fits, and with the
+    // Green-Kubo runs the seeds' Pe -> 0 estimate).
     let redrawn = run.dir.join("redrawn");
     let table = with_gk.join("flow_curves.csv");
     let mut again: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -812,9 +814,21 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
         .filter(|name| name != "run.lock")
         .collect();
     figures.sort();
-    // eta_r, mu_J and one eta_r(Pe) per volume fraction, each as SVG and CSV; no README.
-    assert_eq!(figures.len(), 2 * (2 + phis.len()), "{figures:?}");
-    for name in &figures {
+    // eta_r, mu_J and one eta_r(Pe) per volume fraction, each as SVG and CSV, and the README.
+    assert_eq!(figures.len(), 2 * (2 + phis.len()) + 1, "{figures:?}");
+    let again_readme = std::fs::read_to_string(redrawn.join("README.md")).unwrap();
+    assert!(
+        again_readme.contains(&format!("--table {}", table.display())),
+        "{again_readme}"
+    );
+    let after_command = |text: &str| {
+        text.split_once("Per state and volume fraction")
+            .unwrap()
+            .1
+            .to_owned()
+    };
+    assert_eq!(after_command(&again_readme), after_command(&readme));
+    for name in figures.iter().filter(|name| *name != "README.md") {
         assert_eq!(
             std::fs::read(redrawn.join(name)).unwrap(),
             std::fs::read(with_gk.join(name)).unwrap(),

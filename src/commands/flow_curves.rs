@@ -12,21 +12,22 @@
 //! lubrication, and the structural Brownian stress beside them).
 //!
 //! With `--table DIR/flow_curves.csv` instead of `--runs`, the figures (and the data beside
-//! them) are drawn again from that table, written earlier, without the runs; the table and
-//! the README are left as they are.
+//! them) and the README are made again from that table, written earlier, without the runs
+//! (with `--green-kubo`, the seeds' Pe -> 0 estimate among the fits); the table is left as
+//! it is.
 //!
 //! Two stress conventions are fitted: the box's pair stresslets (contact and lubrication,
 //! as the thesis' LAMMPS runs report), and the bins' `sigma_xy` under the scene's
 //! `[observables] stress` convention (the same pair stresslets by default; with the
 //! one-body drag stresslet under `pairs+drag`, as the shipped datasets were made).
 use crate::plots::flow_curves::{draw_figures, draw_peclet_figure, peclet_figure};
-use crate::report::flow_curves::{summary_text, Command};
+use crate::report::flow_curves::{summary_text, Command, Source};
 use anyhow::Context;
 use rheometry::{read_green_kubo_replicas, FlowCurveRow, FlowCurves, FlowRuns};
 use schema::write_atomic;
 use sim::input::grid::Grid;
 use std::path::PathBuf;
-use surrogate::rheology::local_viscosity;
+use surrogate::rheology::local_viscosity::{self, LocalBand};
 use surrogate::{volume_fractions, Dataset};
 
 /// Centres of the `phi_loc` bands of the local-versus-homogeneous table.
@@ -41,8 +42,8 @@ pub struct Args {
     #[arg(long, required_unless_present = "table")]
     runs: Option<PathBuf>,
     /// Instead of `--runs`: a table this command wrote earlier for the grid
-    /// (`flow_curves.csv`), from which the figures are drawn again (the README and the table
-    /// are not rewritten).
+    /// (`flow_curves.csv`), from which the figures and the README are made again (the table
+    /// is not rewritten).
     #[arg(long, conflicts_with_all = ["runs", "local"])]
     table: Option<PathBuf>,
     /// Inhomogeneous-flow dataset whose sheared bins are compared with the flow curve
@@ -77,9 +78,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             grid.runs.len(),
             &table.display().to_string(),
         );
+        refuse_earlier(&args, &["README.md"])?;
         draw(&args, &curves)?;
+        write_readme(&args, Source::Table(table), &curves, None)?;
         eprintln!(
-            "drew the figures of {} again in {}",
+            "made the figures and the README of {} again in {}",
             table.display(),
             args.out.display()
         );
@@ -106,26 +109,45 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         )?),
         None => None,
     };
+    refuse_earlier(&args, &["README.md", "flow_curves.csv"])?;
+    draw(&args, &curves)?;
+    FlowCurveRow::write_all(&args.out.join("flow_curves.csv"), &curves.rows)?;
+    write_readme(&args, Source::Runs(runs), &curves, local.as_deref())?;
+    eprintln!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// Refuses to replace the earlier files `names` in `--out` without `--force`.
+fn refuse_earlier(args: &Args, names: &[&str]) -> anyhow::Result<()> {
     crate::output_guard::refuse_any_unless_force(
-        &[args.out.join("README.md"), args.out.join("flow_curves.csv")],
+        &names
+            .iter()
+            .map(|name| args.out.join(name))
+            .collect::<Vec<_>>(),
         args.force,
         "an earlier flow-curve result",
         "choose another --out",
-    )?;
-    draw(&args, &curves)?;
-    FlowCurveRow::write_all(&args.out.join("flow_curves.csv"), &curves.rows)?;
+    )
+}
+
+/// Writes the markdown summary of `curves`, read from `source`, as `--out`/README.md and
+/// prints it.
+fn write_readme(
+    args: &Args,
+    source: Source,
+    curves: &FlowCurves,
+    local: Option<&[LocalBand]>,
+) -> anyhow::Result<()> {
     let command = Command {
         grid: &args.grid,
-        runs,
+        source,
         local: args.local.as_deref(),
         green_kubo: &args.green_kubo,
         out: &args.out,
     };
-    let text = summary_text(&command, &curves.curve, &curves.fits, local.as_deref());
-    let readme = args.out.join("README.md");
-    write_atomic(&readme, text.as_bytes())?;
+    let text = summary_text(&command, &curves.curve, &curves.fits, local);
+    write_atomic(&args.out.join("README.md"), text.as_bytes())?;
     print!("{text}");
-    eprintln!("wrote {}", args.out.display());
     Ok(())
 }
 

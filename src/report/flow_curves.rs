@@ -8,10 +8,18 @@ use surrogate::{
     StatePoint, CONVENTIONS, MIN_VOLUME_FRACTIONS, PHI_J_MAX, SEEDS_LAW, SEEDS_LOW_PECLET_PHI_J,
 };
 
+/// Where the curves were read from.
+pub enum Source<'a> {
+    /// The work directory of `suspflow generate`.
+    Runs(&'a Path),
+    /// A `flow_curves.csv` that the command wrote earlier from the runs.
+    Table(&'a Path),
+}
+
 /// What the command was given, for the summary's record of how it was made.
 pub struct Command<'a> {
     pub grid: &'a Path,
-    pub runs: &'a Path,
+    pub source: Source<'a>,
     pub local: Option<&'a Path>,
     pub green_kubo: &'a [PathBuf],
     pub out: &'a Path,
@@ -27,27 +35,36 @@ pub fn summary_text(
 ) -> String {
     let densities = several_densities(points);
     let mut s = String::from("# Flow curves of homogeneous simple shear\n\n");
+    let options = cmd
+        .local
+        .as_ref()
+        .map_or(String::new(), |l| format!(" --local {}", l.display()))
+        + &cmd
+            .green_kubo
+            .iter()
+            .map(|d| format!(" --green-kubo {}", d.display()))
+            .collect::<String>();
+    let grid = cmd.grid.display();
+    let made = match cmd.source {
+        Source::Runs(runs) => format!(
+            "suspflow generate {grid} --out DATASET.csv --work {} --jobs 2 --threads 1\n\
+             suspflow flow-curves {grid} --runs {}{options} --out {}\n```\n",
+            runs.display(),
+            runs.display(),
+            cmd.out.display()
+        ),
+        Source::Table(table) => format!(
+            "suspflow flow-curves {grid} --table {}{options} --out {}\n```\n\n\
+             from the table that `suspflow flow-curves {grid} --runs ...` wrote earlier.\n",
+            table.display(),
+            cmd.out.display()
+        ),
+    };
     let _ = writeln!(
         s,
         "Bidisperse spheres sheared between Lees-Edwards images \
-         (docs/physics.md sections 10 and 11), {} runs of `{}`. Produced by\n\n```\n\
-         suspflow generate {} --out DATASET.csv --work {} --jobs 2 --threads 1\n\
-         suspflow flow-curves {} --runs {}{} --out {}\n```\n",
+         (docs/physics.md sections 10 and 11), {} runs of `{grid}`. Produced by\n\n```\n{made}",
         points.len(),
-        cmd.grid.display(),
-        cmd.grid.display(),
-        cmd.runs.display(),
-        cmd.grid.display(),
-        cmd.runs.display(),
-        cmd.local
-            .as_ref()
-            .map_or(String::new(), |l| format!(" --local {}", l.display()))
-            + &cmd
-                .green_kubo
-                .iter()
-                .map(|d| format!(" --green-kubo {}", d.display()))
-                .collect::<String>(),
-        cmd.out.display()
     );
     s.push_str(
         "Per state and volume fraction, the mean over seeds (standard error from their \

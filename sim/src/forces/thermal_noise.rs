@@ -104,8 +104,9 @@ impl ThermalNoise {
     /// The six deviates of `key` at `step`: the normals drawn by the ziggurat from the
     /// key's stream at its own slot of [`SLOT_WORDS`] words, the four ChaCha blocks that one
     /// refill of the generator makes. The ziggurat takes one 64-bit word per normal but
-    /// for its rare rejections (about 1 %), so a draw stays inside its slot (32 words for
-    /// six normals) and the draws of two keys or two steps never share words. A pair's deviates are
+    /// for its rare rejections (about 1 %), so six normals stay well inside the slot's 32
+    /// 64-bit words and the draws of two keys or two steps never share words. A pair's
+    /// deviates are
     /// oriented from its smaller identity to its larger: seen from the other particle they
     /// change sign, as the pair factor does when i and j swap (`n -> -n`, `Y11B <-> Y21B`,
     /// `Y11C <-> Y22C`), so the loads do not depend on which particle the list puts first.

@@ -574,6 +574,50 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
         !refused.status.success() && stderr.contains("has no fluid.shear_rate"),
         "{stderr}"
     );
+    // The grid run in two shards, each in its own work folder (as a SLURM array runs it):
+    // the flow curves of both folders are those of the whole grid run at once, and a folder
+    // given twice is refused (its runs would count twice).
+    let shards: Vec<PathBuf> = (0..2)
+        .map(|i| {
+            let work = dir.join(format!("runs.s{i}"));
+            assert_ok(&suspflow(&[
+                "generate",
+                "tests/grids/tiny_shear.toml",
+                "--out",
+                dir.join(format!("bins_{i}.csv")).to_str().unwrap(),
+                "--work",
+                work.to_str().unwrap(),
+                "--shard",
+                &format!("{i}/2"),
+                "--jobs",
+                "2",
+                "--threads",
+                "1",
+            ]));
+            work
+        })
+        .collect();
+    let joined = dir.join("joined");
+    let folders: Vec<&str> = shards.iter().map(|s| s.to_str().unwrap()).collect();
+    let with_runs = |runs: &[&str]| {
+        let mut a = vec!["flow-curves", "tests/grids/tiny_shear.toml", "--runs"];
+        a.extend_from_slice(runs);
+        a.extend_from_slice(&["--out", joined.to_str().unwrap(), "--force"]);
+        suspflow(&a)
+    };
+    assert_ok(&with_runs(&folders));
+    assert_eq!(
+        std::fs::read_to_string(joined.join("flow_curves.csv")).unwrap(),
+        std::fs::read_to_string(out.join("flow_curves.csv")).unwrap()
+    );
+    let readme = std::fs::read_to_string(joined.join("README.md")).unwrap();
+    assert!(readme.contains("--shard 1/2"), "{readme}");
+    let twice = with_runs(&[folders[0], folders[1], folders[0]]);
+    let stderr = String::from_utf8_lossy(&twice.stderr);
+    assert!(
+        !twice.status.success() && stderr.contains("finished here and in"),
+        "{stderr}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 

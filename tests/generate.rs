@@ -497,6 +497,7 @@ fn a_second_generate_on_the_same_output_is_refused_naming_the_first() {
     assert!(
         finished_first
             || (!second.status.success()
+                && err.contains("work folder")
                 && err.contains("is in use by another `suspflow generate`")
                 && err.contains(&format!("process {}", first.id()))),
         "{err}"

@@ -25,14 +25,15 @@ type FitRecord = (
     Option<String>,
 );
 
-/// The flow curves of the grid file `grid` run into the batch folder `runs`, with the
+/// The flow curves of the grid file `grid` run into the batch folders `runs` (one, or one
+/// per shard of the grid), with the
 /// Green-Kubo runs in the folders `green_kubo`: `flow_curves.csv`'s text, the fits, and the
 /// labels of the runs not finished.
 #[pyfunction]
 #[pyo3(signature = (grid, runs, green_kubo = Vec::new()))]
 pub fn flow_curves(
     grid: PathBuf,
-    runs: PathBuf,
+    runs: Vec<PathBuf>,
     green_kubo: Vec<PathBuf>,
 ) -> Result<(String, Vec<FitRecord>, Vec<String>), Error> {
     let grid = Grid::from_path(&grid, false)?;

@@ -519,10 +519,13 @@ def cross_validate(
 
 
 def flow_curves(
-    grid: PathLike, runs: PathLike, green_kubo: Sequence[PathLike] = ()
+    grid: PathLike,
+    runs: Union[PathLike, Sequence[PathLike]],
+    green_kubo: Sequence[PathLike] = (),
 ) -> tuple:
     """The flow curves of a grid of homogeneous-shear scenes (docs/physics.md section 10)
-    that ``suspflow generate`` ran into the work folder ``runs``, as ``suspflow
+    that ``suspflow generate`` ran into the work folder ``runs`` (or a list of them, one per
+    ``--shard`` of the grid), as ``suspflow
     flow-curves``, with the Green-Kubo runs in the folders ``green_kubo`` (replicas of the
     grid's volume fractions). Returns ``(table, fits)``: ``table`` holds the rows of
     ``flow_curves.csv``, one per finished run (box totals ``sigma_xy``, ``P`` in ``eta`` /
@@ -533,8 +536,9 @@ def flow_curves(
     ``eta_r = (1 - phi/phi_J)^-lambda``: ``phi_J``, ``phi_J_se``, ``lambda``, ``lambda_se``
     (NaN with the reason in ``error`` where the points cannot be fitted). Runs not finished
     are named in a warning."""
+    folders = [runs] if isinstance(runs, (str, os.PathLike)) else list(runs)
     table, fits, missing = _native.flow_curves(
-        os.fspath(grid), os.fspath(runs), [os.fspath(g) for g in green_kubo]
+        os.fspath(grid), [os.fspath(r) for r in folders], [os.fspath(g) for g in green_kubo]
     )
     if missing:
         warnings.warn(f"{len(missing)} runs not finished in {runs}: {', '.join(missing)}")

@@ -52,3 +52,13 @@ def test_a_grid_without_shear_is_a_scene_error(root, runs):
 def test_a_missing_green_kubo_folder_is_a_file_error(root, runs, tmp_path):
     with pytest.raises(suspflow.FileError):
         suspflow.flow_curves(root / GRID, runs, [tmp_path / "nowhere"])
+
+
+def test_a_folder_given_twice_is_refused_and_a_list_of_one_is_the_folder(root, runs):
+    # A grid run in shards (`generate --shard`) has one work folder per shard: `runs` takes
+    # them as a list; the same folder twice would count its runs twice.
+    table, _ = suspflow.flow_curves(root / GRID, [runs])
+    alone, _ = suspflow.flow_curves(root / GRID, runs)
+    pd.testing.assert_frame_equal(table, alone)
+    with pytest.raises(suspflow.FileError, match="finished here and in"):
+        suspflow.flow_curves(root / GRID, [runs, runs])

@@ -12,7 +12,7 @@ use sim::output::run_summary::RunSummary;
 use sim::run::run_folder::{Recorded, RunFolder, RunStatus};
 use sim::sampling::block_sums::Estimate;
 use sim::sampling::shear_rheology::ShearRheology;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use surrogate::{
     bin_viscosity, green_kubo_at, part_viscosity, Dataset, State, StatePoint, StepSetting,
 };
@@ -52,15 +52,16 @@ pub struct FlowRuns {
 }
 
 impl FlowRuns {
-    /// The runs of `grid` in the batch folder `runs` (where `generate` ran it), each with
-    /// the Green-Kubo viscosity of `green_kubo` at its volume fraction (the mean over the
-    /// results there). Refuses a grid without homogeneous shear and folders made for other
-    /// scenes, a folder that is not there, and one where no run of the grid has finished
-    /// (flow curves of nothing).
-    pub fn read(grid: &Grid, runs: &Path, green_kubo: &[GreenKuboResult]) -> Result<FlowRuns> {
-        if !runs.is_dir() {
+    /// The runs of `grid` in the batch folders `runs` (where `generate` ran it: one folder,
+    /// or one per shard of a split grid), each with the Green-Kubo viscosity of
+    /// `green_kubo` at its volume fraction (the mean over the results there). Refuses a grid
+    /// without homogeneous shear, folders made for other scenes, a folder that is not there,
+    /// a run finished in two of the folders (which one to take is not ours to guess), and
+    /// folders where no run of the grid has finished (flow curves of nothing).
+    pub fn read(grid: &Grid, runs: &[PathBuf], green_kubo: &[GreenKuboResult]) -> Result<FlowRuns> {
+        if let Some(absent) = runs.iter().find(|r| !r.is_dir()) {
             return Err(RheometryError::File {
-                path: runs.display().to_string(),
+                path: absent.display().to_string(),
                 message: "is not a folder of runs (the folder in which the grid was run)".into(),
             });
         }
@@ -79,10 +80,23 @@ impl FlowRuns {
                     ),
                 });
             };
-            let work = RunFolder::in_batch(runs, &gs.label());
-            if work.status(&RESULTS) != RunStatus::Done {
+            let mut done = runs
+                .iter()
+                .map(|r| RunFolder::in_batch(r, &gs.label()))
+                .filter(|w| w.status(&RESULTS) == RunStatus::Done);
+            let Some(work) = done.next() else {
                 found.missing.push(gs.label());
                 continue;
+            };
+            if let Some(again) = done.next() {
+                return Err(RheometryError::File {
+                    path: again.dir.display().to_string(),
+                    message: format!(
+                        "run {} finished here and in {} too: give each run's folder once",
+                        gs.label(),
+                        work.dir.display()
+                    ),
+                });
             }
             if work.recorded_scene(&gs.scene.file)? != Recorded::Same {
                 return Err(RheometryError::File {
@@ -133,7 +147,11 @@ impl FlowRuns {
         }
         if found.points.is_empty() {
             return Err(RheometryError::File {
-                path: runs.display().to_string(),
+                path: runs
+                    .iter()
+                    .map(|r| r.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", "),
                 message: format!(
                     "holds no finished run of grid `{}` (none of its {} runs: the grid not run \
                      there yet, or the folder of another grid)",

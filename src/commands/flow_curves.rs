@@ -1,6 +1,7 @@
 //! `suspflow flow-curves GRID.toml --runs WORK --out DIR`: the flow curves of a grid of
 //! homogeneous-shear scenes (docs/physics.md section 10) that `suspflow generate` has run
-//! (resumably, with progress) into the work directory `WORK`: per scene the box totals,
+//! (resumably, with progress) into the work directory `WORK` (or into several, one per
+//! `generate --shard`, all given to `--runs`): per scene the box totals,
 //! the fit of `phi_J` and `lambda` of the jamming law with uncertainties from the scatter
 //! between seeds, SVG figures of `eta_r(phi)` and `mu(J)` beside the seeds' law, and a
 //! markdown summary; with `--local DATA.csv`, the local `mu / J` of the sheared bins of an
@@ -38,9 +39,9 @@ pub struct Args {
     /// Grid of homogeneous-shear scenes (e.g. grids/flow_curves.toml).
     grid: PathBuf,
     /// Work directory in which `suspflow generate` ran the grid (its `--work`, by default
-    /// `<out>.work`).
-    #[arg(long, required_unless_present = "table")]
-    runs: Option<PathBuf>,
+    /// `<out>.work`); one per shard of a grid run in parts (`generate --shard`).
+    #[arg(long, num_args = 1.., required_unless_present = "table")]
+    runs: Vec<PathBuf>,
     /// Instead of `--runs`: a table this command wrote earlier for the grid
     /// (`flow_curves.csv`), from which the figures and the README are made again (the table
     /// is not rewritten).
@@ -69,7 +70,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, false)?;
     let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow flow-curves`")?;
     let green_kubo = read_green_kubo_replicas(&args.green_kubo).context("--green-kubo")?;
-    let Some(runs) = &args.runs else {
+    if args.runs.is_empty() {
         let table = args.table.as_ref().context("give --runs or --table")?;
         let curves = FlowCurves::from_table(&grid, table, &green_kubo)
             .with_context(|| format!("--table {}", table.display()))?;
@@ -87,19 +88,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             args.out.display()
         );
         return Ok(());
-    };
+    }
+    let runs = &args.runs;
     let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
-    let found = FlowRuns::read(&grid, runs, &results)
-        .with_context(|| format!("--runs {}", runs.display()))?;
+    let found = FlowRuns::read(&grid, runs, &results).context("--runs")?;
     let curves = FlowCurves::fit(found, &green_kubo).context("--green-kubo")?;
+    let folders = runs
+        .iter()
+        .map(|r| r.display().to_string())
+        .collect::<Vec<_>>()
+        .join(" ");
     warn_missing(
         &curves.missing,
         grid.runs.len(),
         &format!(
-            "{} (run `suspflow generate {} --out ... --work {}`)",
-            runs.display(),
+            "{folders} (run `suspflow generate {} --out ... --work FOLDER`)",
             args.grid.display(),
-            runs.display()
         ),
     );
     let local = match &args.local {

@@ -108,7 +108,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     std::fs::create_dir_all(&work).with_context(|| format!("creating {}", work.display()))?;
     let _lock = sim::output::file_lock::FileLock::acquire(
         &work.join("generate.lock"),
-        &outputs.dataset.display().to_string(),
+        &format!("the work folder {}", work.display()),
         "`suspflow generate`",
     )?;
     let mut batch = Batch {

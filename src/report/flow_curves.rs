@@ -10,8 +10,9 @@ use surrogate::{
 
 /// Where the curves were read from.
 pub enum Source<'a> {
-    /// The work directory of `suspflow generate`.
-    Runs(&'a Path),
+    /// The work directories of `suspflow generate`: one, or one per shard (`--shard I/N`,
+    /// in the shards' order).
+    Runs(&'a [PathBuf]),
     /// A `flow_curves.csv` that the command wrote earlier from the runs.
     Table(&'a Path),
 }
@@ -46,13 +47,32 @@ pub fn summary_text(
             .collect::<String>();
     let grid = cmd.grid.display();
     let made = match cmd.source {
-        Source::Runs(runs) => format!(
-            "suspflow generate {grid} --out DATASET.csv --work {} --jobs 2 --threads 1\n\
-             suspflow flow-curves {grid} --runs {}{options} --out {}\n```\n",
-            runs.display(),
-            runs.display(),
-            cmd.out.display()
-        ),
+        Source::Runs(runs) => {
+            let generate = match runs {
+                [one] => format!(
+                    "suspflow generate {grid} --out DATASET.csv --work {} --jobs 2 --threads 1\n",
+                    one.display()
+                ),
+                shards => shards
+                    .iter()
+                    .enumerate()
+                    .map(|(i, r)| {
+                        format!(
+                            "suspflow generate {grid} --shard {i}/{n} --out DATASET_{i}.csv \
+                             --work {} --jobs 1 --threads 1\n",
+                            r.display(),
+                            n = shards.len()
+                        )
+                    })
+                    .collect(),
+            };
+            let folders: Vec<String> = runs.iter().map(|r| r.display().to_string()).collect();
+            format!(
+                "{generate}suspflow flow-curves {grid} --runs {}{options} --out {}\n```\n",
+                folders.join(" "),
+                cmd.out.display()
+            )
+        }
         Source::Table(table) => format!(
             "suspflow flow-curves {grid} --table {}{options} --out {}\n```\n\n\
              from the table that `suspflow flow-curves {grid} --runs ...` wrote earlier.\n",

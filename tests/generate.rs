@@ -263,6 +263,40 @@ fn shards_merged_equal_the_whole_grid() {
     let o = suspflow(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(&std::fs::read_to_string(&merged).unwrap(), whole_tiny());
+    // The shards' run tables merge into the whole grid's, all but the wall times.
+    let without_wall_time = |table: PathBuf| {
+        RunTableRow::read_all(&table)
+            .unwrap()
+            .into_iter()
+            .map(|r| RunTableRow { wall_s: None, ..r })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        without_wall_time(merged.with_extension("scenes.csv")),
+        without_wall_time(whole_tiny_run().0.with_extension("scenes.csv"))
+    );
+    // Disjoint datasets whose run tables share a run are refused, naming both tables.
+    let odd = dir.join("odd.csv");
+    std::fs::copy(&parts[1], &odd).unwrap();
+    std::fs::copy(
+        parts[0].with_extension("scenes.csv"),
+        odd.with_extension("scenes.csv"),
+    )
+    .unwrap();
+    let o = suspflow(&[
+        "merge",
+        parts[0].to_str().unwrap(),
+        odd.to_str().unwrap(),
+        "--out",
+        dir.join("odd_merged.csv").to_str().unwrap(),
+    ]);
+    assert!(
+        !o.status.success()
+            && stderr(&o).contains("is also in the run table")
+            && !dir.join("odd_merged.csv").exists(),
+        "{}",
+        stderr(&o)
+    );
     // An earlier merge is replaced only with --force.
     let o = suspflow(&args);
     assert!(

@@ -2,11 +2,16 @@
 //! --shard` (or any datasets of distinct runs) into one, runs in (scene id, seed) order.
 //! When a scene has several replicas (seeds), the ensemble table and its summary go beside
 //! the output (`<stem>.ensemble.csv`, `<stem>.ensemble.json`, see `crate::ensemble_table`),
-//! replaced as the output is.
+//! replaced as the output is. When every part has its run table beside it (`generate`'s
+//! `<stem>.scenes.csv`), their rows go into the output's (status, step, wall time and code
+//! version of every run), in the same order.
 use crate::ensemble_table;
 use anyhow::bail;
-use rheometry::sweep_tables::{build_ensemble_of, ensemble_paths, write_ensemble_beside};
+use rheometry::sweep_tables::{
+    build_ensemble_of, ensemble_paths, write_ensemble_beside, SweepTables,
+};
 use schema::RunTable;
+use sim::run::batch::RunTableRow;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -17,7 +22,7 @@ pub struct Args {
     /// The combined dataset.
     #[arg(long)]
     out: PathBuf,
-    /// Replace an existing `--out` (and the ensemble table beside it).
+    /// Replace an existing `--out` (and the run and ensemble tables beside it).
     #[arg(long)]
     force: bool,
 }
@@ -30,10 +35,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     let [table, json] = ensemble_paths(&args.out);
+    let run_table = SweepTables::beside(&args.out, false).run_table;
     crate::output_guard::refuse_any_unless_force(
-        &[args.out.clone(), table, json],
+        &[args.out.clone(), run_table.clone(), table, json],
         args.force,
-        "an earlier dataset or its ensemble table",
+        "an earlier dataset or its run or ensemble table",
         "choose another --out",
     )?;
     let mut merged: Option<RunTable> = None;
@@ -46,6 +52,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let merged = merged.expect("clap requires at least one part");
     let text = merged.to_text();
+    let run_rows = merged_run_tables(&args.parts)?;
     // Everything is checked before anything is written: a failed merge leaves no output.
     let ensemble = merged
         .has_replicas()
@@ -60,6 +67,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         merged.scene_count(),
         args.parts.len()
     );
+    if let Some(rows) = run_rows {
+        schema::write_atomic(&run_table, &RunTableRow::to_csv(&rows)?)?;
+        println!("runs: {} ({} runs)", run_table.display(), rows.len());
+    }
     if let Some(ensemble) = ensemble {
         let summary = write_ensemble_beside(&args.out, ensemble)?;
         let [table, json] = ensemble_paths(&args.out);
@@ -71,4 +82,30 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// The run tables beside `parts` as one, when every part has one; `None` (with a note of the
+/// parts without) when some have none, as for datasets not written by `generate`.
+fn merged_run_tables(parts: &[PathBuf]) -> anyhow::Result<Option<Vec<RunTableRow>>> {
+    let tables: Vec<PathBuf> = parts
+        .iter()
+        .map(|p| SweepTables::beside(p, false).run_table)
+        .collect();
+    let absent: Vec<String> = tables
+        .iter()
+        .filter(|t| !t.exists())
+        .map(|t| t.display().to_string())
+        .collect();
+    if !absent.is_empty() {
+        eprintln!(
+            "note: no run table written: {} not there",
+            absent.join(", ")
+        );
+        return Ok(None);
+    }
+    let read = tables
+        .iter()
+        .map(|t| Ok((t.display().to_string(), RunTableRow::read_all(t)?)))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    Ok(Some(RunTableRow::merge(read)?))
 }

@@ -296,6 +296,29 @@ impl RunTableRow {
             .map_err(err)
     }
 
+    /// The run tables `parts` (each with the file it came from, for errors) as one, in
+    /// (scene id, seed) order like the merged dataset; refuses a run in two of them.
+    pub fn merge(parts: Vec<(String, Vec<RunTableRow>)>) -> Result<Vec<RunTableRow>, SimError> {
+        let mut rows: Vec<(String, RunTableRow)> = parts
+            .into_iter()
+            .flat_map(|(file, rows)| rows.into_iter().map(move |r| (file.clone(), r)))
+            .collect();
+        rows.sort_by(|(_, a), (_, b)| (&a.scene_id, a.seed).cmp(&(&b.scene_id, b.seed)));
+        if let Some(pair) = rows
+            .windows(2)
+            .find(|w| (&w[0].1.scene_id, w[0].1.seed) == (&w[1].1.scene_id, w[1].1.seed))
+        {
+            return Err(SimError::Output {
+                path: pair[1].0.clone(),
+                message: format!(
+                    "run {} seed {} is also in the run table {}",
+                    pair[1].1.scene_id, pair[1].1.seed, pair[0].0
+                ),
+            });
+        }
+        Ok(rows.into_iter().map(|(_, r)| r).collect())
+    }
+
     /// The run table of `rows`, as CSV (the reasons of failures hold commas, quotes and
     /// line ends).
     pub fn to_csv(rows: &[RunTableRow]) -> Result<Vec<u8>, SimError> {

@@ -9,7 +9,7 @@ use sim::forces::force_field::ForceField;
 use sim::input::integrator::Integrator;
 use sim::input::scene::Scene;
 use sim::integrate::simulation::Simulation;
-use sim::integrate::timestep::damped_spring_limit;
+use sim::integrate::timestep::{damped_spring_limit, DtLimit};
 use sim::state::particles::{sphere_mass, Particles};
 use sim::Vec3;
 
@@ -221,11 +221,13 @@ fn spheres_pushed_together_rest_where_the_repulsion_balances_the_load() {
 
 /// The stiffest seed repulsion in a dense suspension at the automatic step: thesis
 /// Table 4.1 state (phi 0.45, monodisperse, 107 spheres, no flow) with `A / kT = 1000`,
-/// whose `A / kappa^2 = 42500` is four times `k_n`. The step shrinks with it, the run
-/// stays stable, no pair overlaps (at contact the potential is 1000 kT), and the kinetic
-/// temperature stays that of the bath: within 3 % over 20000 steps after 10000 (measured
-/// 1.011 over 20000 steps after 20000, 0.995 over 40000 after 40000; the 2000 steps after
-/// the packing still run 2.7 % hot while its closest pairs push apart).
+/// whose `A / kappa^2 = 42500` is four times `k_n`. The step shrinks with it (the contact
+/// limit, which counts the repulsion's stiffness: 2.37e-3 against the diffusion limit's
+/// 3.46e-3 without it), the run stays stable, no pair overlaps (at contact the potential is
+/// 1000 kT), and the kinetic temperature stays that of the bath: within 3 % over 20000 steps
+/// after 10000 (measured 1.004; at the earlier rule's 5.5e-4, the diffusion limit over the
+/// Debye length, 1.011 over 20000 steps after 20000, 0.995 over 40000 after 40000; the 2000
+/// steps after the packing still run 2.7 % hot while its closest pairs push apart).
 #[test]
 fn a_dense_suspension_with_the_stiffest_repulsion_is_stable_at_the_automatic_step() {
     let text = |repulsion: f64| {
@@ -238,7 +240,7 @@ fn a_dense_suspension_with_the_stiffest_repulsion_is_stable_at_the_automatic_ste
     let plain = Scene::from_toml(&text(0.0), false).unwrap();
     let sc = Scene::from_toml(&text(1000.0), false).unwrap();
     assert!(
-        sc.timestep.dt < 0.3 * plain.timestep.dt,
+        sc.timestep.limit == DtLimit::Contact && sc.timestep.dt < 0.75 * plain.timestep.dt,
         "{:?}",
         sc.timestep
     );

@@ -1,16 +1,15 @@
 //! At rest with the short-range repulsion (A / kT = 100, kappa = 0.02; the shipped grids'
-//! units, docs/physics.md section 11): does the thermal structure need the diffusion
-//! limit's Debye-length clause? The automatic step (5e-4: the relative Brownian
-//! displacement per step at most sqrt(0.05) kappa) against 6.25x it (3.1e-3: the same
-//! limit on the taper alone, what the rule gives without the clause), monodisperse spheres
-//! at phi 0.45, seeded. Sheared at Pe 1 the two steps give eta_r within 2 %
-//! (reports/brownian/README.md section 4); this compares what a step can bias at rest.
-//! Measured (code d95fab7, 397 s with two other runs on the two cores): `-ln g` of every
-//! populated shell (gaps 0.05-0.13, the pairs held near 4.6 kappa) within 0.03 kT (each
-//! within 1.3 combined standard errors of 0.01-0.02 kT), `P_contact / n kT` 14.30 +- 0.14
-//! against 14.36 +- 0.06, the temperatures within 0.1 %. The clause is not needed here;
-//! with 250 spheres over 8 tau_B the same comparison had looked 0.06 kT apart (2 standard
-//! errors), which the longer run shows was noise.
+//! units, docs/physics.md section 11): the automatic step (3.1e-3, the diffusion limit on
+//! the lubrication's taper) against 0.16 of it (5e-4: the relative Brownian displacement
+//! per step at most sqrt(0.05) kappa, the limit the rule took from the Debye length up to
+//! c28bb49), monodisperse spheres at phi 0.45, seeded. Sheared at Pe 1 the two steps give
+//! eta_r within 2 % (reports/brownian/README.md section 4); this compares what a step can
+//! bias at rest. Measured (code d95fab7, the same two steps, 397 s with two other runs on
+//! the two cores): `-ln g` of every populated shell (gaps 0.05-0.13, the pairs held near
+//! 4.6 kappa) within 0.03 kT (each within 1.3 combined standard errors of 0.01-0.02 kT),
+//! `P_contact / n kT` 14.36 +- 0.06 against 14.30 +- 0.14 at the shorter step, the
+//! temperatures within 0.1 %. With 250 spheres over 8 tau_B the same comparison had
+//! looked 0.06 kT apart (2 standard errors), which the longer run shows was noise.
 //!
 //! Independent checks: the pair histogram and the temperatures share no code with the
 //! stress sums; `P_contact` (the repulsion's virial) is the stress code's.
@@ -41,10 +40,10 @@ fn agree(a: Estimate, b: Estimate, tolerance: f64) -> bool {
 
 #[test]
 #[ignore = "long: about 7 minutes (the short step's 6.4e5 steps of 500 spheres); run with --ignored"]
-fn the_repulsions_structure_at_rest_does_not_need_the_debye_clause() {
-    let fine = at_rest(1.0);
-    let coarse = at_rest(6.25);
-    println!("automatic step: {fine:#?}\n6.25x: {coarse:#?}");
+fn the_repulsions_structure_at_rest_is_converged_at_the_automatic_step() {
+    let fine = at_rest(0.16);
+    let coarse = at_rest(1.0);
+    println!("0.16 of the step: {fine:#?}\nautomatic step: {coarse:#?}");
     assert!(
         coarse.dt > 6.0 * fine.dt,
         "{} against {}",

@@ -34,10 +34,11 @@ use crate::forces::force_field::ForceField;
 use crate::state::particles::{sphere_inertia, sphere_mass};
 
 /// Largest squared relative displacement per step over the squared taper width (or, without
-/// lubrication, the repulsion's Debye length). At rest in the shipped grids' units (phi 0.45, taper 0.05, rho 0.5): at a
-/// ratio of 0.057 the pair structure is smooth across the taper, the temperatures within
-/// 0.3 % of kT and the lubrication pressure zero within its error; at 0.17 the lubrication
-/// pressure is 0.8 n kT and the translational temperature 0.8 % hot.
+/// lubrication, the repulsion's Debye length). At rest in the shipped grids' units (phi
+/// 0.45, taper 0.05, rho 0.5): at a ratio of 0.057 the pair structure is smooth across the
+/// taper, the temperatures within 0.3 % of kT and the lubrication pressure zero within its
+/// error; at 0.17 the lubrication pressure is 0.8 n kT and the translational temperature
+/// 0.8 % hot.
 pub const DIFFUSION_FRACTION: f64 = 0.05;
 
 /// Largest step over the velocity relaxation times (translation and rotation). Sheared at

@@ -4,7 +4,9 @@
 //! the output (`<stem>.ensemble.csv`, `<stem>.ensemble.json`, see `crate::ensemble_table`),
 //! replaced as the output is. When every part has its run table beside it (`generate`'s
 //! `<stem>.scenes.csv`), their rows go into the output's (status, step, wall time and code
-//! version of every run), in the same order.
+//! version of every run), in the same order. A table beside a replaced output that this
+//! merge does not write again (no run table in some part, no replicas) is removed: it
+//! described the dataset replaced.
 use crate::ensemble_table;
 use anyhow::bail;
 use rheometry::sweep_tables::{
@@ -12,7 +14,7 @@ use rheometry::sweep_tables::{
 };
 use schema::RunTable;
 use sim::run::batch::RunTableRow;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -67,9 +69,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         merged.scene_count(),
         args.parts.len()
     );
-    if let Some(rows) = run_rows {
-        schema::write_atomic(&run_table, &RunTableRow::to_csv(&rows)?)?;
-        println!("runs: {} ({} runs)", run_table.display(), rows.len());
+    match run_rows {
+        Some(rows) => {
+            schema::write_atomic(&run_table, &RunTableRow::to_csv(&rows)?)?;
+            println!("runs: {} ({} runs)", run_table.display(), rows.len());
+        }
+        None => remove_stale(&run_table)?,
+    }
+    if ensemble.is_none() {
+        ensemble_paths(&args.out)
+            .iter()
+            .try_for_each(|t| remove_stale(t))?;
     }
     if let Some(ensemble) = ensemble {
         let summary = write_ensemble_beside(&args.out, ensemble)?;
@@ -79,6 +89,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             table.display(),
             json.display(),
             ensemble_table::describe(&summary)
+        );
+    }
+    Ok(())
+}
+
+/// Removes `table`, left beside the output by the dataset `--force` replaced, if there.
+fn remove_stale(table: &Path) -> anyhow::Result<()> {
+    if table.exists() {
+        std::fs::remove_file(table)?;
+        println!(
+            "removed {}: it described the dataset replaced",
+            table.display()
         );
     }
     Ok(())

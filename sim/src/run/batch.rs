@@ -24,14 +24,15 @@ use std::sync::Mutex;
 /// Estimated particle-steps of a run, `[least, most]`: its averaging after the shortest
 /// warm-up (the [`TREND_WINDOWS`] windows of `run.window_strain` before the first steady
 /// test; what a run with a loose `run.steady_chi2` takes) or after its strain budget (at
-/// most 10). The most orders a batch's runs, longest first.
+/// most 10), the averaging as [`Scene::cost`] counts it. The most orders a batch's runs,
+/// longest first.
 pub fn cost(scene: &Scene) -> [f64; 2] {
     let r = &scene.file.run;
     let budget = r.max_strain.min(10.0);
     let shortest = (TREND_WINDOWS as f64 * r.window_strain).min(budget);
-    let averaging = r.sample_strain * r.snapshots as f64;
-    let per_strain = scene.steps_per_strain() * scene.n_particles() as f64;
-    [shortest, budget].map(|warmup| per_strain * (warmup + averaging))
+    let whole = scene.cost();
+    let per_strain = whole.steps_per_strain * scene.n_particles() as f64;
+    [shortest, budget].map(|warmup| per_strain * warmup + whole.averaging_particle_steps)
 }
 
 /// What a batch tells its front end as it goes (from its worker threads).

@@ -3,6 +3,7 @@
 //! retries only when asked); 75 interrupted (`EX_TEMPFAIL`: the state is saved and the
 //! same command continues it, e.g. a batch job requeued after its time limit); 1 any other
 //! error (a file that cannot be read or written, ...).
+use sim::run::run_folder::{Ended, RunFolder};
 use sim::SimError;
 
 /// Bad input (scene, grid, option).
@@ -32,6 +33,23 @@ impl std::fmt::Display for Stop {
 }
 
 impl std::error::Error for Stop {}
+
+/// The result of one run in `folder` that ended so, or how it stopped short: interrupted
+/// (its checkpoint saved, continued with `--resume`) or failed.
+pub fn finished<O>(ended: Ended<O>, folder: &RunFolder) -> anyhow::Result<O> {
+    match ended {
+        Ended::Finished(outcome) => Ok(outcome),
+        Ended::Interrupted { step } => Err(Stop::Interrupted(format!(
+            "interrupted at step {step}; state saved in {}; continue with --resume",
+            folder.checkpoint().display()
+        ))
+        .into()),
+        Ended::InterruptedPacking => {
+            Err(Stop::Interrupted(SimError::InterruptedPacking.to_string()).into())
+        }
+        Ended::Failed(reason) => Err(Stop::Failed(reason).into()),
+    }
+}
 
 /// The exit status of a command that failed with `e`.
 pub fn of(e: &anyhow::Error) -> u8 {

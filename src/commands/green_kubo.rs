@@ -3,13 +3,11 @@
 //! initial packing, samples the structural Brownian shear stress, and writes the
 //! correlation and its running integral (`green_kubo.csv`) and the viscosity
 //! (`green_kubo.json`), in units of the fluid viscosity as a part of `eta_r`.
-use crate::exit_status::Stop;
 use rheometry::green_kubo::{run_in_folder, WRITTEN};
 use sim::input::scene::Scene;
 use sim::run::green_kubo::{GreenKuboJob, GreenKuboRun};
-use sim::run::run_folder::{Ended, RunFolder, RunStatus};
+use sim::run::run_folder::{RunFolder, RunStatus};
 use sim::run::RunOptions;
-use sim::SimError;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -110,20 +108,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         })
     })??;
     bar.finish_and_clear();
-    let g = match ended {
-        Ended::Finished(g) => g,
-        Ended::Interrupted { step } => {
-            return Err(Stop::Interrupted(format!(
-                "interrupted at step {step}; state saved in {}; continue with --resume",
-                folder.checkpoint().display()
-            ))
-            .into())
-        }
-        Ended::InterruptedPacking => {
-            return Err(Stop::Interrupted(SimError::InterruptedPacking.to_string()).into())
-        }
-        Ended::Failed(reason) => return Err(Stop::Failed(reason).into()),
-    };
+    let g = crate::exit_status::finished(ended, &folder)?;
     debug_assert_eq!(folder.status(&WRITTEN), RunStatus::Done);
     println!(
         "Green-Kubo Brownian viscosity of {} (N = {}, phi = {:.4}): eta_B / eta = {:.3} +- {:.3} \

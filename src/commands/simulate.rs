@@ -1,13 +1,11 @@
 //! `suspflow simulate SCENE.toml --out DIR`: one scene to its steady-state profile.
-use crate::exit_status::Stop;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use sim::input::scene::Scene;
 use sim::output::frame_writer::FrameWriter;
 use sim::output::result_files::{write_results, RESULTS, WRITTEN};
 use sim::output::snapshot_format::SnapshotFormat;
-use sim::run::run_folder::{Ended, RunFolder, RunStatus};
+use sim::run::run_folder::{RunFolder, RunStatus};
 use sim::run::{RunOptions, SteadyRun};
-use sim::SimError;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -139,20 +137,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(frames) = frames {
         frames.finish()?;
     }
-    let outcome = match ended {
-        Ended::Finished(outcome) => outcome,
-        Ended::Interrupted { step } => {
-            return Err(Stop::Interrupted(format!(
-                "interrupted at step {step}; state saved in {}; continue with --resume",
-                folder.checkpoint().display()
-            ))
-            .into())
-        }
-        Ended::InterruptedPacking => {
-            return Err(Stop::Interrupted(SimError::InterruptedPacking.to_string()).into())
-        }
-        Ended::Failed(reason) => return Err(Stop::Failed(reason).into()),
-    };
+    let outcome = crate::exit_status::finished(ended, &folder)?;
     let s = &outcome.summary;
     println!("profile: {}", folder.profile_csv().display());
     println!("summary: {}", folder.summary_json().display());

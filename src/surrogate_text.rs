@@ -43,12 +43,7 @@ pub fn describe(params: &HyperParameters) -> String {
 /// Says on standard error how many rows `mapping` could not use, if any.
 pub fn warn_skipped(mapping: &Mapping, samples: &Samples) {
     if samples.skipped_rows > 0 {
-        let columns: Vec<&str> = mapping
-            .features
-            .iter()
-            .chain(mapping.outputs)
-            .copied()
-            .collect();
+        let columns = mapping.columns();
         eprintln!(
             "warning: {}: {} of {} rows of {} skipped: an empty (undefined) cell in one of {}",
             mapping.name,

@@ -39,7 +39,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let [table, json] = ensemble_paths(&args.out);
     let run_table = SweepTables::beside(&args.out, false).run_table;
     crate::output_guard::refuse_any_unless_force(
-        &[args.out.clone(), run_table.clone(), table, json],
+        &[
+            args.out.clone(),
+            run_table.clone(),
+            table.clone(),
+            json.clone(),
+        ],
         args.force,
         "an earlier dataset or its run or ensemble table",
         "choose another --out",
@@ -76,20 +81,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         None => remove_stale(&run_table)?,
     }
-    if ensemble.is_none() {
-        ensemble_paths(&args.out)
-            .iter()
-            .try_for_each(|t| remove_stale(t))?;
-    }
-    if let Some(ensemble) = ensemble {
-        let summary = write_ensemble_beside(&args.out, ensemble)?;
-        let [table, json] = ensemble_paths(&args.out);
-        println!(
-            "ensemble: {} (summary {})\n{}",
-            table.display(),
-            json.display(),
-            ensemble_table::describe(&summary)
-        );
+    match ensemble {
+        Some(ensemble) => {
+            let summary = write_ensemble_beside(&args.out, ensemble)?;
+            println!(
+                "ensemble: {} (summary {})\n{}",
+                table.display(),
+                json.display(),
+                ensemble_table::describe(&summary)
+            );
+        }
+        None => [table, json].iter().try_for_each(|t| remove_stale(t))?,
     }
     Ok(())
 }

@@ -46,6 +46,11 @@ pub const MAPPINGS: [Mapping; 4] = [
 ];
 
 impl Mapping {
+    /// Every column the mapping reads: its features, then its outputs.
+    pub fn columns(&self) -> Vec<&'static str> {
+        self.features.iter().chain(self.outputs).copied().collect()
+    }
+
     /// The mappings called `names`, in that order, or all of [`MAPPINGS`] when `names` is
     /// empty; an unknown name is an error listing the known ones.
     pub fn select<S: AsRef<str>>(names: &[S]) -> Result<Vec<&'static Mapping>> {

@@ -43,12 +43,7 @@ impl Samples {
     /// cells is an error naming its row, and so is a dataset left without rows.
     pub fn from_dataset(dataset: &Dataset, mapping: &Mapping) -> Result<Self> {
         let dataset = &*with_derived_features(dataset, mapping.features)?;
-        let columns: Vec<&str> = mapping
-            .features
-            .iter()
-            .chain(mapping.outputs)
-            .copied()
-            .collect();
+        let columns = mapping.columns();
         let rows = dataset.complete_rows(&columns)?;
         if rows.is_empty() {
             return Err(SurrogateError::EmptyDataset {

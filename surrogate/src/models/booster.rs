@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::data::files;
 use crate::error::{Result, SurrogateError};
-use crate::models::f32_input::to_f32;
+use crate::models::f32_input::{prediction_input, to_f32};
 use crate::models::forest::Forest;
 use crate::models::xgboost_json::{LoaderJson, ShapeJson};
 
@@ -287,21 +287,12 @@ impl Booster {
 
     /// Predictions (rows x outputs) for `features` (rows x features).
     pub fn predict(&self, features: ArrayView2<f64>) -> Result<Array2<f64>> {
-        if features.ncols() != self.n_features {
-            return Err(SurrogateError::ShapeMismatch {
-                what: "prediction input (features per row)".to_owned(),
-                expected: (features.nrows(), self.n_features),
-                found: features.dim(),
-            });
-        }
+        let values = prediction_input(features, self.n_features, &self.feature_names)?;
         let n_rows = features.nrows();
         if n_rows == 0 {
             return Ok(Array2::zeros((0, self.n_outputs)));
         }
-        let dmatrix = xgb::DMatrix::from_dense(
-            &to_f32(features, "prediction input", &self.feature_names)?,
-            n_rows,
-        )?;
+        let dmatrix = xgb::DMatrix::from_dense(&values, n_rows)?;
         let config = xgb::PredictConfig {
             strict_shape: true,
             ..Default::default()

@@ -49,10 +49,43 @@ pub(crate) fn to_f32<S: AsRef<str>>(
         .collect()
 }
 
+/// A model's prediction input (rows x `n_features`) as f32 ([`to_f32`]); a matrix of any
+/// other width is a shape error.
+pub(crate) fn prediction_input<S: AsRef<str>>(
+    features: ArrayView2<f64>,
+    n_features: usize,
+    feature_names: &[S],
+) -> Result<Vec<f32>> {
+    if features.ncols() != n_features {
+        return Err(SurrogateError::ShapeMismatch {
+            what: "prediction input (features per row)".to_owned(),
+            expected: (features.nrows(), n_features),
+            found: features.dim(),
+        });
+    }
+    to_f32(features, "prediction input", feature_names)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use ndarray::array;
+
+    #[test]
+    fn a_prediction_input_of_another_width_is_a_shape_error() {
+        let names = ["J", "phi"];
+        let wide = array![[1.0, 2.0, 3.0]];
+        assert!(matches!(
+            prediction_input(wide.view(), 2, &names),
+            Err(SurrogateError::ShapeMismatch {
+                expected: (1, 2),
+                found: (1, 3),
+                ..
+            })
+        ));
+        let fits = prediction_input(array![[1.0, 2.0]].view(), 2, &names).unwrap();
+        assert_eq!(fits, vec![1.0_f32, 2.0_f32]);
+    }
 
     #[test]
     fn values_beyond_f32_are_refused_naming_row_and_column() {

@@ -14,7 +14,7 @@
 use ndarray::{Array2, ArrayView2};
 
 use crate::error::{Result, SurrogateError};
-use crate::models::f32_input::to_f32;
+use crate::models::f32_input::prediction_input;
 use crate::models::xgboost_json::{ModelJson, TreeJson};
 
 /// The objectives whose prediction is the margin itself (an identity link), which is what
@@ -134,14 +134,7 @@ impl Forest {
 
     /// Predictions (rows x outputs) for `features` (rows x features), all finite.
     pub fn predict(&self, features: ArrayView2<f64>) -> Result<Array2<f64>> {
-        if features.ncols() != self.n_features {
-            return Err(SurrogateError::ShapeMismatch {
-                what: "prediction input (features per row)".to_owned(),
-                expected: (features.nrows(), self.n_features),
-                found: features.dim(),
-            });
-        }
-        let values = to_f32(features, "prediction input", &self.feature_names)?;
+        let values = prediction_input(features, self.n_features, &self.feature_names)?;
         let mut predicted = Array2::zeros((features.nrows(), self.n_outputs()));
         let mut sums = self.base_score.clone();
         for (i, row) in values.chunks(self.n_features.max(1)).enumerate() {

@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
-# The README's SLURM recipe run for real on a single-host cluster: installs Debian's
-# slurm-wlm and munge when missing, starts munged, slurmctld and one slurmd on this machine
-# (loopback only, every file under a scratch folder, no system configuration touched),
-# submits `suspflow generate GRID --shard I/3` as a job array of 3 tasks, waits for the array,
-# merges the shards with `suspflow merge`, and checks with `cmp` that the merged dataset and
+# The README's SLURM recipe run for real on the single-host cluster of
+# scripts/local_slurm.sh (in a scratch folder, no system configuration touched): submits
+# `suspflow generate GRID --shard I/3` as a job array of 3 tasks, waits for the array, merges
+# the shards with `suspflow merge`, and checks with `cmp` that the merged dataset and
 # ensemble table equal those of one single-process `generate` of the same grid byte for byte.
 # Not part of the test suite (it installs packages and starts daemons); docs/slurm.md holds
 # a run's output. Usage: scripts/slurm_check.sh [GRID] (default tests/grids/replicas.toml:
@@ -16,69 +15,13 @@ suspflow=$(realpath "${SUSPFLOW:-target/release/suspflow}")
 shards=3
 [ -x "$suspflow" ] || { echo "no $suspflow: run cargo build --release first" >&2; exit 1; }
 
-if ! command -v slurmctld >/dev/null || ! command -v munged >/dev/null; then
-    echo "== installing slurm-wlm and munge"
-    apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq slurm-wlm munge >/dev/null
-fi
-
 work=$(mktemp -d /tmp/suspflow-slurm.XXXXXX)
-chmod 700 "$work"
-stop() {
-    # Ends only the daemons this script started, by the ids in their pid files.
-    for d in slurmd slurmctld munged; do
-        [ -s "$work/$d.pid" ] || continue
-        pid=$(cat "$work/$d.pid")
-        kill "$pid" 2>/dev/null || continue
-        for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.2; done
-    done
-}
-trap stop EXIT
-
-echo "== single-host SLURM in $work ($(slurmctld -V), $(munged -V | head -1))"
-dd if=/dev/urandom of="$work/munge.key" bs=1024 count=1 status=none
-chmod 400 "$work/munge.key"
-munged --force --key-file="$work/munge.key" --socket="$work/munge.socket" \
-    --pid-file="$work/munged.pid" --log-file="$work/munged.log" --seed-file="$work/munge.seed"
-
-cpus=$(nproc)
-cat >"$work/slurm.conf" <<CONF
-ClusterName=suspflow-check
-SlurmctldHost=localhost(127.0.0.1)
-SlurmctldPort=6817
-SlurmdPort=6818
-SlurmUser=root
-AuthType=auth/munge
-AuthInfo=socket=$work/munge.socket
-CredType=cred/munge
-StateSaveLocation=$work/state
-SlurmdSpoolDir=$work/spool
-SlurmctldPidFile=$work/slurmctld.pid
-SlurmdPidFile=$work/slurmd.pid
-SlurmctldLogFile=$work/slurmctld.log
-SlurmdLogFile=$work/slurmd.log
-ProctrackType=proctrack/linuxproc
-TaskPlugin=task/none
-SwitchType=switch/none
-MpiDefault=none
-SchedulerType=sched/builtin
-SelectType=select/cons_tres
-SelectTypeParameters=CR_Core
-ReturnToService=2
-JobCompType=jobcomp/none
-AccountingStorageType=accounting_storage/none
-NodeName=localhost NodeAddr=127.0.0.1 CPUs=$cpus State=UNKNOWN
-PartitionName=check Nodes=localhost Default=YES MaxTime=10 State=UP
-CONF
-mkdir -p "$work/state" "$work/spool"
-export SLURM_CONF=$work/slurm.conf
-slurmctld
-slurmd -N localhost
-for _ in $(seq 60); do
-    sinfo -h -o %T 2>/dev/null | grep -q idle && break
-    sleep 1
-done
-sinfo
+# The cluster is scripts/local_slurm.sh's (it installs slurm-wlm and munge when missing);
+# only the daemons it started are ended, by the ids in their pid files.
+trap 'scripts/local_slurm.sh stop "$work"' EXIT
+scripts/local_slurm.sh start "$work"
+# shellcheck source=/dev/null
+source "$work/env"
 
 echo "== the job array: $grid in $shards shards"
 parts=$work/parts

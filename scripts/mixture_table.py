@@ -2,9 +2,10 @@
 """The viscosity table of colloid-grain mixtures (issue 29): the mixture rows of one or
 more `suspflow flow-curves` tables (flow_curves.csv, whose last columns carry a mixture's
 composition and Peclet numbers), reduced to the columns the mixture study compares with
-the thesis, sorted by alpha, phi, friction, Pe_c, seed, density and step; a run found in
-two tables (the same scene, seed, density and step in two grids, the same bits) is kept
-once. Nothing is computed here: every value is the flow-curves table's. Tables written
+the thesis, sorted by alpha, phi, friction, Pe_c, seed, density, step and code version; a
+run found in two tables (the same scene, seed, density and step in two grids, the same
+bits) is kept once, and runs of one state by two codes that drew other random numbers are
+both kept. Nothing is computed here: every value is the flow-curves table's. Tables written
 before flow-curves recorded each run's `rho`, `dt` and `code_version` leave those empty and
 name, as the code version, the commit that added the table (the runs' code is that
 commit's or older).
@@ -63,21 +64,27 @@ def main():
                     row["code_version"] = unrecorded
                 rows.append(row)
     # A run in two grids (the same scene, seed, density and step) is one run: identical
-    # bits, kept once.
+    # bits, kept once. Runs of the same state by codes that draw other numbers (a new noise
+    # stream) differ and are kept, each with its code version; two of the same code that
+    # differ are an error.
     unique = {}
     for r in rows:
         key = (r["alpha"], r["phi"], r["mu_p"], r["peclet_c"], r["seed"], r["n_particles"],
                r["rho"], r["dt"])
-        if key in unique and unique[key]["eta_r"] != r["eta_r"]:
+        same = unique.setdefault(key, [])
+        if any(u["eta_r"] == r["eta_r"] for u in same):
+            continue
+        clash = [u for u in same if u["code_version"] == r["code_version"]]
+        if clash:
             sys.exit(f"two runs of alpha {key[0]}, phi {key[1]}, mu_p {key[2]}, Pe_c {key[3]}, "
-                     f"seed {key[4]}, rho {key[6]}, dt {key[7]} differ: eta_r "
-                     f"{unique[key]['eta_r']} and {r['eta_r']}")
-        unique.setdefault(key, r)
-    rows = list(unique.values())
+                     f"seed {key[4]}, rho {key[6]}, dt {key[7]} by code {r['code_version']} "
+                     f"differ: eta_r {clash[0]['eta_r']} and {r['eta_r']}")
+        same.append(r)
+    rows = [r for same in unique.values() for r in same]
     # Runs without Brownian forces have no Peclet number (infinite): last of their state.
     rows.sort(key=lambda r: (float(r["alpha"]), float(r["phi"]), float(r["mu_p"]),
                              float(r["peclet_c"] or "inf"), int(r["seed"]),
-                             float(r["rho"] or 0), float(r["dt"] or 0)))
+                             float(r["rho"] or 0), float(r["dt"] or 0), r["code_version"]))
     with open(args.out, "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=COLUMNS + RECORDED)
         writer.writeheader()

@@ -27,7 +27,9 @@
 //! times the thermal scale (`sigma_xy / (n kT) = eta_r Pe / (4.5 phi)`, 300 at phi 0.45,
 //! eta_r 6, Pe 100), so the limits are relaxed by `max(1, Pe / PECLET_ONSET)`
 //! ([`peclet_allowance`], [`PECLET_ONSET`]): the artefacts then stay a bounded share of
-//! the stress. Where the flow has a profile the local Peclet number falls to zero at the
+//! the stress. From [`RELAXATION_PECLET_END`] on the relaxation limit is dropped: the
+//! step is then that of the same scene without kT wherever the diffusion limit allows it.
+//! Where the flow has a profile the local Peclet number falls to zero at the
 //! velocity extrema, and nothing is relaxed.
 use crate::forces::drag;
 use crate::forces::force_field::ForceField;
@@ -68,6 +70,12 @@ pub struct BrownianLimits {
 /// the hydrodynamic part still reads 7.4 +- 2.3 % above a third of this onset's step (three
 /// seeds; docs/physics.md section 11).
 pub const PECLET_ONSET: f64 = 3.0;
+
+/// The Peclet number of a homogeneous shear from which the velocity relaxation limit no
+/// longer bounds the step. At Pe 100 in the lightest shipped units (rho 0.05, Stokes number
+/// 5e-4, phi 0.45 and 0.55), 30 rotational relaxation times (0.1, the step without kT)
+/// agree with 10 (docs/physics.md section 11, `grids/brownian_relaxation_pe100.toml`).
+pub const RELAXATION_PECLET_END: f64 = 100.0;
 
 /// The factor `max(1, Pe / PECLET_ONSET)` on the Brownian limits of a homogeneous shear at
 /// Peclet number `peclet` (`None`: at rest or a flow with a profile, factor 1).
@@ -133,9 +141,14 @@ impl BrownianLimits {
             }
         }
         let allowance = peclet_allowance(peclet);
+        let relaxation = if peclet.is_some_and(|pe| pe >= RELAXATION_PECLET_END) {
+            f64::INFINITY
+        } else {
+            limits.relaxation * allowance
+        };
         BrownianLimits {
             diffusion: limits.diffusion * allowance,
-            relaxation: limits.relaxation * allowance,
+            relaxation,
             cutoff: limits.cutoff * allowance,
         }
     }

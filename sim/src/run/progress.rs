@@ -71,6 +71,8 @@ pub struct ProgressLines {
     last_line: Instant,
     last: Option<(Phase, f64)>,
     phase_started: Instant,
+    /// The phase's fraction at its first line: more than zero when a run resumes.
+    phase_start_fraction: f64,
 }
 
 /// Percent of a phase between two progress lines in a log (off a terminal).
@@ -99,12 +101,14 @@ impl ProgressLines {
             last_line: Instant::now(),
             last: None,
             phase_started: Instant::now(),
+            phase_start_fraction: 0.0,
         }
     }
 
     /// The line for `p` when one is due: what the run does, its step and clock, the time
-    /// in the phase and the time left at the phase's pace so far (while equilibrating, the
-    /// most: to the end of the budget, which a steady run may not need).
+    /// in the phase (since this process reached it: a resumed run counts from the resume)
+    /// and the time left at the phase's pace so far (while equilibrating, the most: to the
+    /// end of the budget, which a steady run may not need).
     pub fn line(&mut self, p: &Progress) -> Option<String> {
         let fraction = p.fraction();
         let due = match self.last {
@@ -121,20 +125,21 @@ impl ProgressLines {
         if !due {
             return None;
         }
+        if self.last.is_none_or(|(phase, _)| phase != p.phase) {
+            self.phase_start_fraction = fraction;
+        }
         self.last = Some((p.phase, fraction));
         self.last_line = Instant::now();
         let spent = self.phase_started.elapsed().as_secs_f64();
-        let left = if fraction > 0.0 && fraction < 1.0 {
-            let bound = match p.phase {
-                Phase::Equilibrating => "at most ",
-                Phase::Averaging => "",
-            };
-            format!(
-                ", {bound}about {} left",
-                describe_seconds(spent * (1.0 - fraction) / fraction)
-            )
-        } else {
-            String::new()
+        let left = match time_left(spent, self.phase_start_fraction, fraction) {
+            Some(left) => {
+                let bound = match p.phase {
+                    Phase::Equilibrating => "at most ",
+                    Phase::Averaging => "",
+                };
+                format!(", {bound}about {} left", describe_seconds(left))
+            }
+            None => String::new(),
         };
         Some(format!(
             "{} ({:.0} %), step {}, {} in this phase{left}",
@@ -144,6 +149,13 @@ impl ProgressLines {
             describe_seconds(spent)
         ))
     }
+}
+
+/// Seconds left to finish a phase at the pace of the `spent` seconds in which it went from
+/// the fraction `from` (where this process began it: above zero after a resume) to
+/// `fraction`; `None` before any progress or once done.
+pub fn time_left(spent: f64, from: f64, fraction: f64) -> Option<f64> {
+    (fraction > from && fraction < 1.0).then(|| spent * (1.0 - fraction) / (fraction - from))
 }
 
 /// A duration for a log: `42 s`, `12.5 min`, `3.2 h`.
@@ -200,6 +212,16 @@ mod tests {
         let mut slow = ProgressLines::new(10.0, Duration::ZERO);
         assert!(slow.line(&at(Phase::Averaging, 0.0, 1)).is_some());
         assert!(slow.line(&at(Phase::Averaging, 0.0, 1)).is_some());
+    }
+
+    /// A resumed run's pace is its progress since the resume: at 60 % of a phase, 120 s
+    /// after resuming at 50 %, 480 s are left (not the 80 s of 60 % in 120 s).
+    #[test]
+    fn the_time_left_counts_from_the_resume() {
+        assert_eq!(time_left(120.0, 0.5, 0.6).map(f64::round), Some(480.0));
+        assert_eq!(time_left(120.0, 0.0, 0.6).map(f64::round), Some(80.0));
+        assert_eq!(time_left(120.0, 0.5, 0.5), None);
+        assert_eq!(time_left(120.0, 0.5, 1.0), None);
     }
 
     /// Without flow the clock counts Brownian times, and the lines say so.

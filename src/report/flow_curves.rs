@@ -53,18 +53,18 @@ pub fn summary_text(
                     "suspflow generate {grid} --out DATASET.csv --work {} --jobs 2 --threads 1\n",
                     one.display()
                 ),
-                shards => shards
-                    .iter()
-                    .enumerate()
-                    .map(|(i, r)| {
-                        format!(
-                            "suspflow generate {grid} --shard {i}/{n} --out DATASET_{i}.csv \
-                             --work {} --jobs 1 --threads 1\n",
-                            r.display(),
-                            n = shards.len()
-                        )
-                    })
-                    .collect(),
+                parts => {
+                    let folders: String = parts
+                        .iter()
+                        .map(|r| format!("#   {}\n", r.display()))
+                        .collect();
+                    format!(
+                        "# the grid's runs in parts (`--shard I/N`, one or more parts per \
+                         folder), into these work folders:\n{folders}\
+                         suspflow generate {grid} --shard I/N --out DATASET_I.csv \
+                         --work FOLDER --jobs 1 --threads 1\n"
+                    )
+                }
             };
             let folders: Vec<String> = runs.iter().map(|r| r.display().to_string()).collect();
             format!(

@@ -111,21 +111,19 @@ impl ProgressLines {
     /// end of the budget, which a steady run may not need).
     pub fn line(&mut self, p: &Progress) -> Option<String> {
         let fraction = p.fraction();
-        let due = match self.last {
-            None => true,
-            Some((phase, _)) if phase != p.phase => {
-                self.phase_started = Instant::now();
-                true
-            }
-            Some((_, done)) => {
+        let new_phase = self.last.is_none_or(|(phase, _)| phase != p.phase);
+        let due = new_phase
+            || self.last.is_some_and(|(_, done)| {
                 100.0 * (fraction - done) >= self.percent
                     || self.last_line.elapsed() >= self.interval
-            }
-        };
+            });
         if !due {
             return None;
         }
-        if self.last.is_none_or(|(phase, _)| phase != p.phase) {
+        if new_phase {
+            if self.last.is_some() {
+                self.phase_started = Instant::now();
+            }
             self.phase_start_fraction = fraction;
         }
         self.last = Some((p.phase, fraction));

@@ -63,7 +63,12 @@ fn main() -> std::process::ExitCode {
     match run() {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("Error: {e:?}");
+            // The message and its causes only: `{e:?}` would add a stack backtrace wherever
+            // RUST_BACKTRACE is set, and an error here is the user's input, not a bug.
+            eprintln!("Error: {e}");
+            for cause in e.chain().skip(1) {
+                eprintln!("  caused by: {cause}");
+            }
             std::process::ExitCode::from(suspflow::exit_status::of(&e))
         }
     }

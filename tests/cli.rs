@@ -1,7 +1,7 @@
 //! End-to-end tests of the `suspflow` command on tiny scenes.
 mod common;
 
-use common::{assert_ok, read_csv, root, scratch, stderr, suspflow};
+use common::{assert_ok, read_csv, root, s, scratch, stderr, suspflow};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -27,14 +27,21 @@ fn bad_scenes_are_refused_naming_the_field() {
             .next()
             .and_then(|l| l.strip_prefix("# expect: "))
             .expect("first line names the expected message");
-        let out = suspflow(&[
-            "simulate",
-            scene.to_str().unwrap(),
-            "--out",
-            out_dir.to_str().unwrap(),
-        ]);
+        // With RUST_BACKTRACE set, as on many developers' machines: the error is still a
+        // message, not a stack backtrace.
+        let out = Command::new(env!("CARGO_BIN_EXE_suspflow"))
+            .args(["simulate", s(&scene), "--out", s(&out_dir)])
+            .env("RUST_BACKTRACE", "1")
+            .current_dir(root())
+            .output()
+            .unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{} was accepted", scene.display());
+        assert!(
+            !stderr.to_lowercase().contains("backtrace"),
+            "{} printed a backtrace:\n{stderr}",
+            scene.display()
+        );
         assert!(
             stderr.contains(expect),
             "{}: error does not mention `{expect}`:\n{stderr}",

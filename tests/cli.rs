@@ -1,7 +1,7 @@
 //! End-to-end tests of the `suspflow` command on tiny scenes.
 mod common;
 
-use common::{assert_ok, read_csv, root, s, scratch, stderr, suspflow};
+use common::{assert_ok, read_csv, root, s, scratch, stderr, suspflow, suspflow_with_env};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -29,12 +29,10 @@ fn bad_scenes_are_refused_naming_the_field() {
             .expect("first line names the expected message");
         // With RUST_BACKTRACE set, as on many developers' machines: the error is still a
         // message, not a stack backtrace.
-        let out = Command::new(env!("CARGO_BIN_EXE_suspflow"))
-            .args(["simulate", s(&scene), "--out", s(&out_dir)])
-            .env("RUST_BACKTRACE", "1")
-            .current_dir(root())
-            .output()
-            .unwrap();
+        let out = suspflow_with_env(
+            &["simulate", s(&scene), "--out", s(&out_dir)],
+            &[("RUST_BACKTRACE", "1")],
+        );
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{} was accepted", scene.display());
         assert!(

@@ -13,8 +13,14 @@ pub fn root() -> PathBuf {
 
 /// Runs `suspflow args` in the workspace root.
 pub fn suspflow(args: &[&str]) -> Output {
+    suspflow_with_env(args, &[])
+}
+
+/// Runs `suspflow args` in the workspace root with the environment variables `env` set.
+pub fn suspflow_with_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_suspflow"))
         .args(args)
+        .envs(env.iter().copied())
         .current_dir(root())
         .output()
         .expect("runs suspflow")

@@ -147,3 +147,34 @@ fn the_brownian_step_follows_the_thermal_time_scales() {
     );
     assert!(close(frictional.dt, 0.3 * frictional.friction_critical));
 }
+
+/// A step the scene sets warns when it exceeds a Brownian limit (the diffusion limit,
+/// 3.125e-3 in the shipped units) by more than 1 %, naming the limit and the factor; a
+/// step a hair above it (a limit's step written to a few digits, as the Table 4.1 grids
+/// carry one, 2e-4 above today's limit) and one below it do not.
+#[test]
+fn a_step_beyond_a_brownian_limit_warns_with_its_factor() {
+    let warning = |dt: f64| {
+        let text = format!(
+            "box = {{ l_x = 10.0, l_y = 10.0, l_z = 10.0 }}\n\
+             particles = {{ phi = 0.45, radii = [1.0, 1.4], fractions = [0.733, 0.267], rho = 0.5 }}\n\
+             fluid = {{ kT = {} }}\nrun = {{ dt = {dt} }}\n",
+            6.0 * std::f64::consts::PI * 0.01
+        );
+        let scene = Scene::from_toml(&text, false).expect("valid test scene");
+        scene
+            .warnings
+            .iter()
+            .find(|w| w.contains("Brownian"))
+            .cloned()
+    };
+    let limit = 3.125e-3;
+    for quiet in [0.5 * limit, limit * 1.0002, limit * 1.009] {
+        assert_eq!(warning(quiet), None, "dt {quiet}");
+    }
+    let loud = warning(2.0 * limit).expect("a warning at twice the limit");
+    assert!(
+        loud.contains("diffusion limit 3.125e-3") && loud.contains("cut the step 2.00x"),
+        "{loud}"
+    );
+}

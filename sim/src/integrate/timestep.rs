@@ -280,8 +280,9 @@ impl TimeStep {
     }
 
     /// The warning when the step of an implicit Brownian scene exceeds one of its
-    /// [`BrownianLimits`] (only a step the scene sets can: `run.dt`, or `run.dt_factor`
-    /// above 1), naming the limit and the factor to cut the step by.
+    /// [`BrownianLimits`] by more than [`BROWNIAN_LIMIT_TOLERANCE`] (only a step the scene
+    /// sets can: `run.dt`, or `run.dt_factor` above 1), naming the limit and the factor to
+    /// cut the step by.
     pub fn brownian_warning(&self) -> Option<String> {
         let (limit, name, what) = [
             (self.diffusion_limit, "diffusion", "a pair's Brownian displacement per step against the gap width its forces vary over"),
@@ -290,11 +291,11 @@ impl TimeStep {
         ]
         .into_iter()
         .min_by(|a, b| (self.dt / b.0).total_cmp(&(self.dt / a.0)))?;
-        (self.dt > limit * (1.0 + 1e-9)).then(|| {
+        (self.dt > limit * (1.0 + BROWNIAN_LIMIT_TOLERANCE)).then(|| {
             format!(
                 "the step {:.3e} is {:.2}x the Brownian {name} limit {limit:.3e} ({what}): the \
                  equilibrium structure and the stresses come out biased (docs/physics.md \
-                 section 11); cut the step {:.1}x (run.dt, run.dt_factor), or leave it to the \
+                 section 11); cut the step {:.2}x (run.dt, run.dt_factor), or leave it to the \
                  automatic step",
                 self.dt,
                 self.dt / limit,
@@ -303,6 +304,13 @@ impl TimeStep {
         })
     }
 }
+
+/// How far a step the scene sets may exceed a Brownian limit before
+/// [`TimeStep::brownian_warning`] speaks (relative, 1 %): a step written out to a few
+/// digits, or one limit's step carried to a scene whose limit is a little shorter, is the
+/// limit itself. The limits' constants were chosen by convergence in steps 3x apart
+/// (docs/physics.md section 11); 1 % is far inside that resolution.
+pub const BROWNIAN_LIMIT_TOLERANCE: f64 = 0.01;
 
 /// The smallest of `candidates` and which limit it is (the first on a tie; infinite
 /// `Contact` when empty).

@@ -70,7 +70,8 @@ pub struct BrownianLimits {
 /// onset gives) 1.1 +- 1.3 %. At Pe 100, 3 relaxation times agreed with 1 within 0.5 +- 0.7 %: at a
 /// fixed step the error falls about as `1 / Pe`. Not enough at phi 0.45 and Pe 4.6, where
 /// the hydrodynamic part still reads 7.4 +- 2.3 % above a third of this onset's step (three
-/// seeds; docs/physics.md section 11).
+/// seeds); half this onset's step (a `RELAXATION_FRACTION` of 0.175) reads +2.7 +- 2.7 %
+/// against the shortest (docs/physics.md section 11).
 pub const PECLET_ONSET: f64 = 3.0;
 
 /// The Peclet number of a homogeneous shear from which the velocity relaxation limit no

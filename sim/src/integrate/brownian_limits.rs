@@ -49,9 +49,9 @@ pub const DIFFUSION_FRACTION: f64 = 0.05;
 /// Pe = 1 (rho = 0.05, phi 0.45 and 0.50), at 3.2 translational relaxation times eta_r was
 /// 15-25 % high and at 0.32 converged within 5-10 % (reports/brownian/README.md). Where it
 /// binds unrelaxed (rho 0.1, phi 0.55, Pe 1, three seeds) eta_r is within 1.4 +- 1.8 % of a
-/// third of it, the hydrodynamic part +4.5 +- 2.3 % (+1.3 +- 2.2 % at half this fraction):
-/// that part's bias grows about as the step over the rotational relaxation time
-/// (docs/physics.md section 11).
+/// third of it, the hydrodynamic part +4.5 +- 2.3 % (+1.3 +- 2.2 % at half this fraction);
+/// at phi 0.45 it misses: eta_r -7.4 +- 4.0 %, -0.4 +- 3.8 % at half this fraction, whose
+/// hydrodynamic part still reads +9.1 +- 4.3 % (docs/physics.md section 11).
 pub const RELAXATION_FRACTION: f64 = 0.35;
 
 /// Largest step times the relaxation rate of a pair's squeeze mode at a sharp lubrication

@@ -50,8 +50,8 @@ pub const DIFFUSION_FRACTION: f64 = 0.05;
 /// 15-25 % high and at 0.32 converged within 5-10 % (reports/brownian/README.md). Where it
 /// binds unrelaxed (rho 0.1, phi 0.55, Pe 1, three seeds) eta_r is within 1.4 +- 1.8 % of a
 /// third of it, the hydrodynamic part +4.5 +- 2.3 % (+1.3 +- 2.2 % at half this fraction);
-/// at phi 0.45 it misses: eta_r -7.4 +- 4.0 %, -0.4 +- 3.8 % at half this fraction, whose
-/// hydrodynamic part still reads +9.1 +- 4.3 % (docs/physics.md section 11).
+/// at phi 0.45 it misses: eta_r -11.6 +- 4.9 % against a ninth of it (two seeds), -3.6 +-
+/// 4.3 % at half this fraction (docs/physics.md section 11).
 pub const RELAXATION_FRACTION: f64 = 0.35;
 
 /// Largest step times the relaxation rate of a pair's squeeze mode at a sharp lubrication

@@ -56,6 +56,17 @@ fn high_peclet_flow_meets_the_non_brownian_viscosity() {
     );
 }
 
+/// A 10^3 box at phi 0.45 of the shipped bidisperse colloids at density `rho`, with the
+/// `[fluid]` entries `fluid` and further TOML `more`.
+fn small_brownian_scene(rho: f64, fluid: &str, more: &str) -> Scene {
+    let text = format!(
+        "box = {{ l_x = 10.0, l_y = 10.0, l_z = 10.0 }}\n\
+         particles = {{ phi = 0.45, radii = [1.0, 1.4], fractions = [0.733, 0.267], rho = {rho} }}\n\
+         fluid = {{ {fluid} }}\n{more}\n"
+    );
+    Scene::from_toml(&text, false).expect("valid test scene")
+}
+
 /// The automatic step of a Brownian scene (docs/physics.md section 11) in the shipped
 /// grids' units (a = 1, eta = 1, kT = 6 pi 0.01, so D0 = kT / (6 pi eta a) = 0.01): the
 /// diffusion limit `0.05 (0.05 a)^2 / (2 * 2 D0) = 3.125e-3` at rho 0.5, scaling as
@@ -68,16 +79,7 @@ fn high_peclet_flow_meets_the_non_brownian_viscosity() {
 #[test]
 fn the_brownian_step_follows_the_thermal_time_scales() {
     use sim::integrate::timestep::DtLimit;
-    let step = |rho: f64, fluid: &str, more: &str| {
-        let text = format!(
-            "box = {{ l_x = 10.0, l_y = 10.0, l_z = 10.0 }}\n\
-             particles = {{ phi = 0.45, radii = [1.0, 1.4], fractions = [0.733, 0.267], rho = {rho} }}\n\
-             fluid = {{ {fluid} }}\n{more}\n"
-        );
-        Scene::from_toml(&text, false)
-            .expect("valid test scene")
-            .timestep
-    };
+    let step = |rho: f64, fluid: &str, more: &str| small_brownian_scene(rho, fluid, more).timestep;
     let kt = 6.0 * std::f64::consts::PI * 0.01;
     let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-9;
     let at_rest = step(0.5, &format!("kT = {kt}"), "");
@@ -154,19 +156,17 @@ fn the_brownian_step_follows_the_thermal_time_scales() {
 /// carry one, 2e-4 above today's limit) and one below it do not.
 #[test]
 fn a_step_beyond_a_brownian_limit_warns_with_its_factor() {
+    let kt = 6.0 * std::f64::consts::PI * 0.01;
     let warning = |dt: f64| {
-        let text = format!(
-            "box = {{ l_x = 10.0, l_y = 10.0, l_z = 10.0 }}\n\
-             particles = {{ phi = 0.45, radii = [1.0, 1.4], fractions = [0.733, 0.267], rho = 0.5 }}\n\
-             fluid = {{ kT = {} }}\nrun = {{ dt = {dt} }}\n",
-            6.0 * std::f64::consts::PI * 0.01
-        );
-        let scene = Scene::from_toml(&text, false).expect("valid test scene");
-        scene
-            .warnings
-            .iter()
-            .find(|w| w.contains("Brownian"))
-            .cloned()
+        small_brownian_scene(
+            0.5,
+            &format!("kT = {kt}"),
+            &format!("run = {{ dt = {dt} }}"),
+        )
+        .warnings
+        .iter()
+        .find(|w| w.contains("Brownian"))
+        .cloned()
     };
     let limit = 3.125e-3;
     for quiet in [0.5 * limit, limit * 1.0002, limit * 1.009] {

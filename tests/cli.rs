@@ -630,6 +630,55 @@ fn flow_curves_fit_a_generated_shear_grid_and_refuse_other_grids() {
         !twice.status.success() && stderr.contains("finished here and in"),
         "{stderr}"
     );
+    // Part of the grid run again (the second shard) replaces the table's lines of its
+    // scenes: marked "old" in an earlier table, only those lines take the runs' code
+    // version; every line keeps its grid place and its numbers (the same code ran both).
+    let (header, rows) = read_csv(&out.join("flow_curves.csv"));
+    let version = header.iter().position(|h| h == "code_version").unwrap();
+    let earlier = dir.join("earlier.csv");
+    let mut text = header.join(",") + "\n";
+    for row in &rows {
+        let mut row = row.clone();
+        row[version] = "old".into();
+        text += &(row.join(",") + "\n");
+    }
+    std::fs::write(&earlier, text).unwrap();
+    let updated = dir.join("updated");
+    assert_ok(&suspflow(&[
+        "flow-curves",
+        "tests/grids/tiny_shear.toml",
+        "--table",
+        earlier.to_str().unwrap(),
+        "--runs",
+        folders[1],
+        "--out",
+        updated.to_str().unwrap(),
+    ]));
+    let rerun: Vec<String> = std::fs::read_dir(&shards[1])
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.unwrap().file_name().to_string_lossy().into_owned();
+            name.split_once("_seed").map(|(id, _)| id.to_owned())
+        })
+        .collect();
+    assert_eq!(rerun.len(), 3, "{rerun:?}");
+    let (_, merged) = read_csv(&updated.join("flow_curves.csv"));
+    assert_eq!(merged.len(), rows.len());
+    for (line, row) in merged.iter().zip(&rows) {
+        assert_eq!(line[0], row[0], "grid order");
+        let again = rerun.contains(&line[0]);
+        assert_eq!(line[version] != "old", again, "{line:?}");
+        assert_eq!(line[..version], row[..version], "{line:?}");
+    }
+    let readme = std::fs::read_to_string(updated.join("README.md")).unwrap();
+    assert!(
+        readme.contains(&format!(
+            "--table {} --runs {}",
+            earlier.display(),
+            folders[1]
+        )) && readme.contains("in place of its lines of the same scenes"),
+        "{readme}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -43,30 +43,50 @@ impl FlowCurves {
         table: &Path,
         green_kubo: &[(PathBuf, GreenKuboResult)],
     ) -> Result<Self> {
-        let rows = FlowCurveRow::read_all(table)?;
-        let results: Vec<GreenKuboResult> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
-        let replicas = replicas(&results);
-        let curve = rows
-            .iter()
-            .map(|row| {
-                let gs = grid.runs.iter().find(|gs| gs.id == row.scene_id);
-                gs.map(|gs| row.point(gs, &replicas))
-                    .ok_or_else(|| RheometryError::File {
-                        path: table.display().to_string(),
-                        message: format!(
-                            "holds scene {}, which grid `{}` does not have: give the grid the \
-                             table was made of",
-                            row.scene_id, grid.name
-                        ),
-                    })
-            })
-            .collect::<Result<_>>()?;
+        let lines = table_points(grid, table, green_kubo)?;
         let missing = grid
             .runs
             .iter()
-            .filter(|gs| !rows.iter().any(|row| row.scene_id == gs.id))
+            .filter(|gs| !lines.iter().any(|(row, _)| row.scene_id == gs.id))
             .map(|gs| gs.label())
             .collect();
+        let (rows, curve) = lines.into_iter().unzip();
+        Self::assemble(rows, missing, curve, green_kubo)
+    }
+
+    /// The curves of the table `table` written earlier for the runs of `grid`, with the
+    /// finished runs of `runs` in place of the table's lines of the same scenes (part of a
+    /// grid run again, after a change of the code, say; each line keeps its run's
+    /// `code_version`), in grid order. Refuses the table as [`Self::from_table`] and
+    /// Green-Kubo results as [`Self::fit`] do.
+    pub fn updated(
+        grid: &Grid,
+        table: &Path,
+        runs: FlowRuns,
+        green_kubo: &[(PathBuf, GreenKuboResult)],
+    ) -> Result<Self> {
+        let mut earlier = table_points(grid, table, green_kubo)?;
+        let mut again = runs.points;
+        let (mut rows, mut curve, mut missing) = (Vec::new(), Vec::new(), Vec::new());
+        for gs in &grid.runs {
+            let line = match again.iter().position(|p| p.id == gs.id) {
+                Some(i) => {
+                    let p = again.swap_remove(i);
+                    Some((FlowCurveRow::of(&p), p.point))
+                }
+                None => earlier
+                    .iter()
+                    .position(|(row, _)| row.scene_id == gs.id)
+                    .map(|i| earlier.swap_remove(i)),
+            };
+            match line {
+                Some((row, point)) => {
+                    rows.push(row);
+                    curve.push(point);
+                }
+                None => missing.push(gs.label()),
+            }
+        }
         Self::assemble(rows, missing, curve, green_kubo)
     }
 
@@ -113,6 +133,35 @@ impl FlowCurves {
             fits,
         })
     }
+}
+
+/// The lines of the table `table` written earlier for the runs of `grid`, each with its
+/// point (the Green-Kubo viscosity of `green_kubo` at its volume fraction). Refuses a line
+/// of a scene that is not the grid's.
+fn table_points(
+    grid: &Grid,
+    table: &Path,
+    green_kubo: &[(PathBuf, GreenKuboResult)],
+) -> Result<Vec<(FlowCurveRow, StatePoint)>> {
+    let results: Vec<GreenKuboResult> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
+    let replicas = replicas(&results);
+    FlowCurveRow::read_all(table)?
+        .into_iter()
+        .map(|row| {
+            let gs = grid.runs.iter().find(|gs| gs.id == row.scene_id);
+            let point =
+                gs.map(|gs| row.point(gs, &replicas))
+                    .ok_or_else(|| RheometryError::File {
+                        path: table.display().to_string(),
+                        message: format!(
+                            "holds scene {}, which grid `{}` does not have: give the grid the \
+                         table was made of",
+                            row.scene_id, grid.name
+                        ),
+                    })?;
+            Ok((row, point))
+        })
+        .collect()
 }
 
 /// The Green-Kubo results in the folders `dirs`, each with its folder. Refuses a folder

@@ -15,7 +15,9 @@
 //! With `--table DIR/flow_curves.csv` instead of `--runs`, the figures (and the data beside
 //! them) and the README are made again from that table, written earlier, without the runs
 //! (with `--green-kubo`, the seeds' Pe -> 0 estimate among the fits); the table is left as
-//! it is.
+//! it is. With both `--table` and `--runs`, the runs finished there take the place of the
+//! table's lines of the same scenes (part of a grid run again) and the table is written
+//! anew into `--out`.
 //!
 //! Two stress conventions are fitted: the box's pair stresslets (contact and lubrication,
 //! as the thesis' LAMMPS runs report), and the bins' `sigma_xy` under the scene's
@@ -42,10 +44,11 @@ pub struct Args {
     /// `<out>.work`); one per shard of a grid run in parts (`generate --shard`).
     #[arg(long, num_args = 1.., required_unless_present = "table")]
     runs: Vec<PathBuf>,
-    /// Instead of `--runs`: a table this command wrote earlier for the grid
-    /// (`flow_curves.csv`), from which the figures and the README are made again (the table
-    /// is not rewritten).
-    #[arg(long, conflicts_with_all = ["runs", "local"])]
+    /// A table this command wrote earlier for the grid (`flow_curves.csv`). Alone, the
+    /// figures and the README are made again from it (the table is not rewritten); with
+    /// `--runs`, the runs finished there replace its lines of the same scenes (part of the
+    /// grid run again) in the table written to `--out`.
+    #[arg(long, conflicts_with = "local")]
     table: Option<PathBuf>,
     /// Inhomogeneous-flow dataset whose sheared bins are compared with the flow curve
     /// (e.g. datasets/train.csv).
@@ -92,7 +95,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let runs = &args.runs;
     let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
     let found = FlowRuns::read(&grid, runs, &results).context("--runs")?;
-    let curves = FlowCurves::fit(found, &green_kubo).context("--green-kubo")?;
+    let (curves, source) = match &args.table {
+        Some(table) => (
+            FlowCurves::updated(&grid, table, found, &green_kubo)
+                .with_context(|| format!("--table {}", table.display()))?,
+            Source::Updated { table, runs },
+        ),
+        None => (
+            FlowCurves::fit(found, &green_kubo).context("--green-kubo")?,
+            Source::Runs(runs),
+        ),
+    };
     let folders = runs
         .iter()
         .map(|r| r.display().to_string())
@@ -116,7 +129,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     refuse_earlier(&args, &["README.md", "flow_curves.csv"])?;
     draw(&args, &curves)?;
     FlowCurveRow::write_all(&args.out.join("flow_curves.csv"), &curves.rows)?;
-    write_readme(&args, Source::Runs(runs), &curves, local.as_deref())?;
+    write_readme(&args, source, &curves, local.as_deref())?;
     eprintln!("wrote {}", args.out.display());
     Ok(())
 }

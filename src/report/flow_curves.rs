@@ -15,6 +15,12 @@ pub enum Source<'a> {
     Runs(&'a [PathBuf]),
     /// A `flow_curves.csv` that the command wrote earlier from the runs.
     Table(&'a Path),
+    /// Such a table with the runs finished in the work directories `runs` in place of its
+    /// lines of the same scenes.
+    Updated {
+        table: &'a Path,
+        runs: &'a [PathBuf],
+    },
 }
 
 /// What the command was given, for the summary's record of how it was made.
@@ -24,6 +30,40 @@ pub struct Command<'a> {
     pub local: Option<&'a Path>,
     pub green_kubo: &'a [PathBuf],
     pub out: &'a Path,
+}
+
+/// The `generate` command line(s) that ran `grid` into the work directories `runs`: one,
+/// or one per part of a grid run in parts, or (`again`) of the runs run again.
+fn generate_lines(grid: &Path, runs: &[PathBuf], again: bool) -> String {
+    let grid = grid.display();
+    if let ([one], false) = (runs, again) {
+        return format!(
+            "suspflow generate {grid} --out DATASET.csv --work {} --jobs 2 --threads 1\n",
+            one.display()
+        );
+    }
+    let folders: String = runs
+        .iter()
+        .map(|r| format!("#   {}\n", r.display()))
+        .collect();
+    let what = if again {
+        "the runs replaced, run again (`--shard I/N`, N the grid's runs, I each run's index)"
+    } else {
+        "the grid's runs in parts (`--shard I/N`, one or more parts per folder)"
+    };
+    format!(
+        "# {what}, into these work folders:\n{folders}\
+         suspflow generate {grid} --shard I/N --out DATASET_I.csv --work FOLDER --jobs 1 \
+         --threads 1\n"
+    )
+}
+
+/// The work directories `runs`, separated by spaces.
+fn folder_list(runs: &[PathBuf]) -> String {
+    runs.iter()
+        .map(|r| r.display().to_string())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// The markdown summary of the flow curves: how `cmd` produced them, the state points per
@@ -47,37 +87,28 @@ pub fn summary_text(
             .collect::<String>();
     let grid = cmd.grid.display();
     let made = match cmd.source {
-        Source::Runs(runs) => {
-            let generate = match runs {
-                [one] => format!(
-                    "suspflow generate {grid} --out DATASET.csv --work {} --jobs 2 --threads 1\n",
-                    one.display()
-                ),
-                parts => {
-                    let folders: String = parts
-                        .iter()
-                        .map(|r| format!("#   {}\n", r.display()))
-                        .collect();
-                    format!(
-                        "# the grid's runs in parts (`--shard I/N`, one or more parts per \
-                         folder), into these work folders:\n{folders}\
-                         suspflow generate {grid} --shard I/N --out DATASET_I.csv \
-                         --work FOLDER --jobs 1 --threads 1\n"
-                    )
-                }
-            };
-            let folders: Vec<String> = runs.iter().map(|r| r.display().to_string()).collect();
-            format!(
-                "{generate}suspflow flow-curves {grid} --runs {}{options} --out {}\n```\n",
-                folders.join(" "),
-                cmd.out.display()
-            )
-        }
+        Source::Runs(runs) => format!(
+            "{}suspflow flow-curves {grid} --runs {}{options} --out {}\n```\n",
+            generate_lines(cmd.grid, runs, false),
+            folder_list(runs),
+            cmd.out.display()
+        ),
         Source::Table(table) => format!(
             "suspflow flow-curves {grid} --table {}{options} --out {}\n```\n\n\
              from the table that `suspflow flow-curves {grid} --runs ...` wrote earlier.\n",
             table.display(),
             cmd.out.display()
+        ),
+        Source::Updated { table, runs } => format!(
+            "{}suspflow flow-curves {grid} --table {} --runs {}{options} --out {}\n```\n\n\
+             from the table that `suspflow flow-curves {grid} --runs ...` wrote earlier, with \
+             the runs finished in {} in place of its lines of the same scenes (each line's \
+             `code_version` names the code that made it).\n",
+            generate_lines(cmd.grid, runs, true),
+            table.display(),
+            folder_list(runs),
+            cmd.out.display(),
+            folder_list(runs),
         ),
     };
     let _ = writeln!(

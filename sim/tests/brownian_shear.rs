@@ -70,14 +70,16 @@ fn small_brownian_scene(rho: f64, fluid: &str, more: &str) -> Scene {
 /// The automatic step of a Brownian scene (docs/physics.md section 11) in the shipped
 /// grids' units (a = 1, eta = 1, kT = 6 pi 0.01, so D0 = kT / (6 pi eta a) = 0.01): the
 /// diffusion limit `0.05 (0.05 a)^2 / (2 * 2 D0) = 3.125e-3` at rho 0.5, scaling as
-/// 1 / kT until the relaxation limit; at rho = 0.05 the rotational relaxation `0.35 * 0.3 m / (6 pi eta a)` is the
-/// shorter; in homogeneous shear both are relaxed by Pe / 3, and from Pe = 100 on the
+/// 1 / kT until the relaxation limit; at rho = 0.05 the rotational relaxation
+/// `RELAXATION_FRACTION * 0.3 m / (6 pi eta a)` (the fraction 0.175) is the shorter; in
+/// homogeneous shear both are relaxed by Pe / 3, and from Pe = 100 on the
 /// relaxation limit is dropped, so that at Pe 100 and 1e4 the step is within 1.5x of the
 /// same scene without kT at rho 0.5 and 0.05 (the cost target); with the
 /// seeds' sharp cut the squeeze relaxation at the cut-off caps it; friction is bounded by
 /// its own spring, not by a share of it.
 #[test]
 fn the_brownian_step_follows_the_thermal_time_scales() {
+    use sim::integrate::brownian_limits::RELAXATION_FRACTION;
     use sim::integrate::timestep::DtLimit;
     let step = |rho: f64, fluid: &str, more: &str| small_brownian_scene(rho, fluid, more).timestep;
     let kt = 6.0 * std::f64::consts::PI * 0.01;
@@ -85,8 +87,11 @@ fn the_brownian_step_follows_the_thermal_time_scales() {
     let at_rest = step(0.5, &format!("kT = {kt}"), "");
     assert_eq!(at_rest.limit, DtLimit::Diffusion, "{at_rest:?}");
     assert!(close(at_rest.dt, 3.125e-3), "{at_rest:?}");
-    let cooler = step(0.5, &format!("kT = {}", kt / 3.0), "");
-    assert!(close(cooler.dt, 3.0 * at_rest.dt), "{cooler:?}");
+    // 1 / kT up to the rotational relaxation limit, 5.83e-3 at rho 0.5.
+    let cooler = step(0.5, &format!("kT = {}", kt / 1.5), "");
+    assert!(close(cooler.dt, 1.5 * at_rest.dt), "{cooler:?}");
+    let colder = step(0.5, &format!("kT = {}", kt / 3.0), "");
+    assert_eq!(colder.limit, DtLimit::Relaxation, "{colder:?}");
     let third = step(
         0.5,
         &format!("kT = {kt}"),
@@ -96,7 +101,10 @@ fn the_brownian_step_follows_the_thermal_time_scales() {
     // rho = 0.05: m / (6 pi eta a) = 2 rho / 9, the rotational time 0.3 of it.
     let light = step(0.05, &format!("kT = {kt}"), "");
     assert_eq!(light.limit, DtLimit::Relaxation, "{light:?}");
-    assert!(close(light.dt, 0.35 * 0.3 * 2.0 * 0.05 / 9.0), "{light:?}");
+    assert!(
+        close(light.dt, RELAXATION_FRACTION * 0.3 * 2.0 * 0.05 / 9.0),
+        "{light:?}"
+    );
     // Sheared below Pe = PECLET_ONSET (3) nothing is relaxed; at Pe = 6 the limits are 2x
     // longer.
     let pe1 = step(0.5, "shear_rate = 0.01, peclet = 1.0", "");
@@ -113,7 +121,7 @@ fn the_brownian_step_follows_the_thermal_time_scales() {
             "Pe {pe}, rho {rho}: {brownian:?} against {granular:?}"
         );
     }
-    // At rho = 0.05 and Pe = 30 the relaxation limit, relaxed by 30 / 3, still binds (3.5
+    // At rho = 0.05 and Pe = 30 the relaxation limit, relaxed by 30 / 3, still binds (1.75
     // rotational relaxation times); at Pe = 100 it is gone.
     let light_pe30 = step(0.05, "shear_rate = 0.01, peclet = 30.0", "");
     assert_eq!(light_pe30.limit, DtLimit::Relaxation, "{light_pe30:?}");

@@ -48,11 +48,13 @@ pub const DIFFUSION_FRACTION: f64 = 0.05;
 /// Largest step over the velocity relaxation times (translation and rotation). Sheared at
 /// Pe = 1 (rho = 0.05, phi 0.45 and 0.50), at 3.2 translational relaxation times eta_r was
 /// 15-25 % high and at 0.32 converged within 5-10 % (reports/brownian/README.md). Where it
-/// binds unrelaxed (rho 0.1, phi 0.55, Pe 1, three seeds) eta_r is within 1.4 +- 1.8 % of a
-/// third of it, the hydrodynamic part +4.5 +- 2.3 % (+1.3 +- 2.2 % at half this fraction);
-/// at phi 0.45 it misses: eta_r -11.6 +- 4.9 % against a ninth of it (two seeds), -3.6 +-
-/// 4.3 % at half this fraction (docs/physics.md section 11).
-pub const RELAXATION_FRACTION: f64 = 0.35;
+/// binds unrelaxed (rho 0.1, Pe 1, three seeds), twice this fraction (0.35, the rule until
+/// code c301e63) missed at phi 0.45: eta_r -11.6 +- 4.9 % against a ninth of it, the
+/// contact part -16.3 +- 5.8 %; this fraction reads eta_r -3.6 +- 4.3 % there, and at phi
+/// 0.55 every part within 1.3 % of a third of the old step; relaxed at Pe 4.6 (rho 0.5,
+/// phi 0.45) it brings the hydrodynamic part from +6.4 +- 2.9 % to +2.7 +- 2.7 %
+/// (docs/physics.md section 11).
+pub const RELAXATION_FRACTION: f64 = 0.175;
 
 /// Largest step times the relaxation rate of a pair's squeeze mode at a sharp lubrication
 /// cut-off. At rest (phi 0.45, rho 0.5 and 0.05) the jump of `-ln g` across the cut-off
@@ -70,12 +72,12 @@ pub struct BrownianLimits {
 /// The Peclet number from which the Brownian limits of a homogeneous shear grow with `Pe`.
 /// Sheared at Pe 4.6, phi 0.55 (shipped units, two and three seeds): steps of 3 and 1.6
 /// rotational relaxation times put the hydrodynamic part of eta_r 15.7 +- 1.8 and 9.7 +-
-/// 1.3 % above a ninth of the latter; a third of it (0.54 relaxation times, the step this
-/// onset gives) 1.1 +- 1.3 %. At Pe 100, 3 relaxation times agreed with 1 within 0.5 +- 0.7 %: at a
-/// fixed step the error falls about as `1 / Pe`. Not enough at phi 0.45 and Pe 4.6, where
-/// the hydrodynamic part still reads 7.4 +- 2.3 % above a third of this onset's step (three
-/// seeds); half this onset's step (a `RELAXATION_FRACTION` of 0.175) reads +2.7 +- 2.7 %
-/// against the shortest (docs/physics.md section 11).
+/// 1.3 % above a ninth of the latter; 0.54 relaxation times (this onset with a
+/// `RELAXATION_FRACTION` of 0.35) 1.1 +- 1.3 %. At Pe 100, 3 relaxation times agreed with 1
+/// within 0.5 +- 0.7 %: at a fixed step the error falls about as `1 / Pe`. At phi 0.45 and
+/// Pe 4.6 the hydrodynamic part read 6.4 +- 2.9 % above the shortest step at 0.54
+/// relaxation times and +2.7 +- 2.7 % at 0.27, the step this onset gives with today's
+/// fraction (docs/physics.md section 11).
 pub const PECLET_ONSET: f64 = 3.0;
 
 /// The Peclet number of a homogeneous shear from which the velocity relaxation limit no

@@ -49,11 +49,11 @@ pub const DIFFUSION_FRACTION: f64 = 0.05;
 /// Pe = 1 (rho = 0.05, phi 0.45 and 0.50), at 3.2 translational relaxation times eta_r was
 /// 15-25 % high and at 0.32 converged within 5-10 % (reports/brownian/README.md). Where it
 /// binds unrelaxed (rho 0.1, Pe 1, three seeds), twice this fraction (0.35, the rule until
-/// code c301e63) missed at phi 0.45: eta_r -11.6 +- 4.9 % against a ninth of it, the
-/// contact part -16.3 +- 5.8 %; this fraction reads eta_r -3.6 +- 4.3 % there, and at phi
-/// 0.55 every part within 1.3 % of a third of the old step; relaxed at Pe 4.6 (rho 0.5,
-/// phi 0.45) it brings the hydrodynamic part from +6.4 +- 2.9 % to +2.7 +- 2.7 %
-/// (docs/physics.md section 11).
+/// code c301e63) missed at phi 0.45: against a ninth of it eta_r -6.5 +- 6.1 %, the contact
+/// part -9.4 +- 8.3 %, the structural Brownian stress -5.1 +- 3.0 %; this fraction reads
+/// eta_r +0.6 +- 5.0 % and every part within 4.2 % there, and at phi 0.55 every part within
+/// 1.3 % of a third of the old step; relaxed at Pe 4.6 (rho 0.5, phi 0.45) it brings the
+/// hydrodynamic part from +6.4 +- 2.9 % to +2.7 +- 2.7 % (docs/physics.md section 11).
 pub const RELAXATION_FRACTION: f64 = 0.175;
 
 /// Largest step times the relaxation rate of a pair's squeeze mode at a sharp lubrication

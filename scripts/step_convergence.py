@@ -7,7 +7,8 @@ the run of the same seed at the shortest step of its state (for a grid at `dt_fa
 flow-curves`' per-run table (`flow_curves.csv`) and each run's step, from the run table of
 `suspflow generate` (`bins.scenes.csv`) or, for runs made one by one (`suspflow simulate`
 into the grid's work folders), from each folder's `summary.json` (give the work folder
-instead); this script only pairs, pools and tabulates them. A state is (phi, rho, Pe, mu_p).
+instead); this script only pairs, pools and tabulates them. A state is (phi, rho, Pe, mu_p)
+and, in a mixture grid, alpha (printed beside phi).
 
 Two tables. Per seed: a run against the shortest step of its seed, their difference against
 its combined block standard error. Pooled over seeds (several `--set`s may add seeds of the
@@ -74,7 +75,7 @@ def seed_pairs(sets, against_last=False):
             if run is None or run["status"] != "done":
                 continue
             state = (float(row["phi"]), float(row["rho"]), float(row["peclet"] or "nan"),
-                     float(row["mu_p"]))
+                     float(row["mu_p"]), row.get("alpha") or "")
             rank = (against_last and last, -float(run["dt"]))
             runs[(state, row["seed"])].append((rank, float(run["dt"]), run["dt_limit"], row))
     pairs = defaultdict(list)
@@ -119,8 +120,10 @@ def main():
         "|---|---|---|---|---|---|---|" + "---|" * len(PARTS),
     ]
     failures = compared = 0
-    for key, seeds in sorted(pairs.items(), key=lambda kv: kv[0][:4] + (-kv[0][4],)):
-        phi, rho, pe, mu, _, dt_ref = key
+    for key, seeds in sorted(pairs.items(), key=lambda kv: kv[0][:5] + (-kv[0][5],)):
+        phi, rho, pe, mu, alpha, _, dt_ref = key
+        if alpha:
+            phi = f"{phi} (alpha {alpha})"
         cells = []
         for part in PARTS:
             diffs, block_var, longs, shorts = [], 0.0, [], []

@@ -99,17 +99,18 @@ pub fn summary_text(
             table.display(),
             cmd.out.display()
         ),
-        Source::Updated { table, runs } => format!(
-            "{}suspflow flow-curves {grid} --table {} --runs {}{options} --out {}\n```\n\n\
-             from the table that `suspflow flow-curves {grid} --runs ...` wrote earlier, with \
-             the runs finished in {} in place of its lines of the same scenes (each line's \
-             `code_version` names the code that made it).\n",
-            generate_lines(cmd.grid, runs, true),
-            table.display(),
-            folder_list(runs),
-            cmd.out.display(),
-            folder_list(runs),
-        ),
+        Source::Updated { table, runs } => {
+            let folders = folder_list(runs);
+            format!(
+                "{}suspflow flow-curves {grid} --table {} --runs {folders}{options} --out {}\n\
+                 ```\n\nfrom the table that `suspflow flow-curves {grid} --runs ...` wrote \
+                 earlier, with the runs finished in {folders} in place of its lines of the same \
+                 scenes (each line's `code_version` names the code that made it).\n",
+                generate_lines(cmd.grid, runs, true),
+                table.display(),
+                cmd.out.display(),
+            )
+        }
     };
     let _ = writeln!(
         s,

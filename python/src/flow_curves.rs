@@ -26,21 +26,31 @@ type FitRecord = (
 );
 
 /// The flow curves of the grid file `grid` run into the batch folders `runs` (one, or one
-/// per shard of the grid), with the
-/// Green-Kubo runs in the folders `green_kubo`: `flow_curves.csv`'s text, the fits, and the
-/// labels of the runs not finished.
+/// per shard of the grid), with the Green-Kubo runs in the folders `green_kubo`:
+/// `flow_curves.csv`'s text, the fits, and the labels of the runs not finished. With
+/// `table` (a `flow_curves.csv` written earlier for the grid) the runs replace its lines of
+/// the same scenes, or, with no runs, the table alone gives the curves.
 #[pyfunction]
-#[pyo3(signature = (grid, runs, green_kubo = Vec::new()))]
+#[pyo3(signature = (grid, runs, green_kubo = Vec::new(), table = None))]
 pub fn flow_curves(
     grid: PathBuf,
     runs: Vec<PathBuf>,
     green_kubo: Vec<PathBuf>,
+    table: Option<PathBuf>,
 ) -> Result<(String, Vec<FitRecord>, Vec<String>), Error> {
     let grid = Grid::from_path(&grid, false)?;
     let green_kubo = read_green_kubo_replicas(&green_kubo)?;
-    let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
-    let found = FlowRuns::read(&grid, &runs, &results)?;
-    let curves = FlowCurves::fit(found, &green_kubo)?;
+    let curves = match (table, runs.is_empty()) {
+        (Some(table), true) => FlowCurves::from_table(&grid, &table, &green_kubo)?,
+        (table, _) => {
+            let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
+            let found = FlowRuns::read(&grid, &runs, &results)?;
+            match table {
+                Some(table) => FlowCurves::updated(&grid, &table, found, &green_kubo)?,
+                None => FlowCurves::fit(found, &green_kubo)?,
+            }
+        }
+    };
     let table = FlowCurveRow::to_csv(&curves.rows).map_err(Error::from)?;
     let mut fits = Vec::new();
     for f in &curves.fits {

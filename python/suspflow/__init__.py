@@ -522,12 +522,17 @@ def flow_curves(
     grid: PathLike,
     runs: Union[PathLike, Sequence[PathLike]],
     green_kubo: Sequence[PathLike] = (),
+    table: Optional[PathLike] = None,
 ) -> tuple:
     """The flow curves of a grid of homogeneous-shear scenes (docs/physics.md section 10)
     that ``suspflow generate`` ran into the work folder ``runs`` (or a list of them, one per
     ``--shard`` of the grid), as ``suspflow
     flow-curves``, with the Green-Kubo runs in the folders ``green_kubo`` (replicas of the
-    grid's volume fractions). Returns ``(table, fits)``: ``table`` holds the rows of
+    grid's volume fractions). With ``table``, a ``flow_curves.csv`` written earlier for the
+    grid, the runs (part of the grid run again, after a change of the code, say) replace its
+    lines of the same scenes, each line keeping its run's ``code_version``, as
+    ``flow-curves --table``; with ``table`` and no runs (``runs=[]``) the table alone gives
+    the curves. Returns ``(table, fits)``: ``table`` holds the rows of
     ``flow_curves.csv``, one per finished run (box totals ``sigma_xy``, ``P`` in ``eta`` /
     time; ``eta_r``, ``mu``, ``J`` and the parts of ``eta_r``, dimensionless, each with its
     standard error ``_se``); ``fits`` one row per state (``mu_p``, ``peclet``, ``alpha``,
@@ -537,11 +542,15 @@ def flow_curves(
     (NaN with the reason in ``error`` where the points cannot be fitted). Runs not finished
     are named in a warning."""
     folders = [runs] if isinstance(runs, (str, os.PathLike)) else list(runs)
-    table, fits, missing = _native.flow_curves(
-        os.fspath(grid), [os.fspath(r) for r in folders], [os.fspath(g) for g in green_kubo]
+    text, fits, missing = _native.flow_curves(
+        os.fspath(grid),
+        [os.fspath(r) for r in folders],
+        [os.fspath(g) for g in green_kubo],
+        None if table is None else os.fspath(table),
     )
     if missing:
-        warnings.warn(f"{len(missing)} runs not finished in {runs}: {', '.join(missing)}")
+        where = runs if table is None else f"{runs} or {table}"
+        warnings.warn(f"{len(missing)} runs not finished in {where}: {', '.join(missing)}")
     rows = [
         (mu_p, peclet, alpha, rho, dt_factor, np.nan if dt is None else dt, convention,
          *(values or [np.nan] * 4), error)
@@ -551,7 +560,7 @@ def flow_curves(
         "mu_p", "peclet", "alpha", "rho", "dt_factor", "dt", "convention",
         "phi_J", "phi_J_se", "lambda", "lambda_se", "error",
     ]
-    return _exact_table(table), pd.DataFrame(rows, columns=columns)
+    return _exact_table(text), pd.DataFrame(rows, columns=columns)
 
 
 def _exact_table(text: str) -> pd.DataFrame:

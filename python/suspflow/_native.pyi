@@ -133,7 +133,7 @@ def train(
     """Trains the mappings of `table` into `out` as `suspflow train`; returns the result as JSON text."""
 
 def flow_curves(
-    grid: str, runs: Sequence[str], green_kubo: Sequence[str] = ...
+    grid: str, runs: Sequence[str], green_kubo: Sequence[str] = ..., table: Optional[str] = None
 ) -> Tuple[
     str,
     List[

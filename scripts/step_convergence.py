@@ -80,12 +80,28 @@ def seed_pairs(sets, against_last=False):
             runs[(state, row["seed"])].append((rank, float(run["dt"]), run["dt_limit"], row))
     pairs = defaultdict(list)
     for (state, seed), rs in sorted(runs.items()):
+        if not against_last:
+            rs = distinct_steps(state, seed, rs)
         rs.sort(key=lambda r: r[0])
         _, dt_ref, _, reference = rs[-1]
         for _, dt, limit, run in rs[:-1]:
             key = state + (float(f"{dt:.4g}"), float(f"{dt_ref:.4g}"))
             pairs[key].append((seed, dt, limit, run, reference))
     return pairs
+
+
+def distinct_steps(state, seed, runs):
+    """One run per step of a state and seed: two sets may hold the same run (a flow-curve
+    folder's run at the automatic step and a step-convergence grid's), which would otherwise
+    count its seed twice. The first set's is kept; a copy whose numbers differ is reported."""
+    kept = {}
+    for run in runs:
+        step = f"{run[1]:.4g}"
+        first = kept.setdefault(step, run)
+        if first is not run and any(first[3][p] != run[3][p] for p in PARTS):
+            print(f"warning: state {state} seed {seed} at dt {step}: two different runs, the first "
+                  f"set's kept (eta_r {first[3]['eta_r']} against {run[3]['eta_r']})", file=sys.stderr)
+    return list(kept.values())
 
 
 def verdict(diff, ref, se, a):

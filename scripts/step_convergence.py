@@ -182,10 +182,10 @@ def main():
         + ["", "Pooled over seeds:", ""] + pooled
         + ["", f"{compared - failures} of {compared} pooled comparisons within {100 * a.tolerance:g} % "
                f"and {a.sigmas:g} standard errors.", "", "Per seed:", ""] + per_seed) + "\n"
-    print(text)
     if a.out:
         with open(a.out, "w") as f:
             f.write(text)
+    print(text)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@
 //! convention.
 use crate::error::Error;
 use pyo3::prelude::*;
-use rheometry::{read_green_kubo_replicas, FlowCurveRow, FlowCurves, FlowRuns};
+use rheometry::{read_green_kubo_replicas, FlowCurveRow, FlowCurveSource, FlowCurves};
 use sim::input::grid::Grid;
 use std::path::PathBuf;
 use surrogate::CONVENTIONS;
@@ -40,17 +40,8 @@ pub fn flow_curves(
 ) -> Result<(String, Vec<FitRecord>, Vec<String>), Error> {
     let grid = Grid::from_path(&grid, false)?;
     let green_kubo = read_green_kubo_replicas(&green_kubo)?;
-    let curves = match (table, runs.is_empty()) {
-        (Some(table), true) => FlowCurves::from_table(&grid, &table, &green_kubo)?,
-        (table, _) => {
-            let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
-            let found = FlowRuns::read(&grid, &runs, &results)?;
-            match table {
-                Some(table) => FlowCurves::updated(&grid, &table, found, &green_kubo)?,
-                None => FlowCurves::fit(found, &green_kubo)?,
-            }
-        }
-    };
+    let source = FlowCurveSource::new(table.as_deref(), &runs);
+    let curves = FlowCurves::read(&grid, source, &green_kubo)?;
     let table = FlowCurveRow::to_csv(&curves.rows).map_err(Error::from)?;
     let mut fits = Vec::new();
     for f in &curves.fits {

@@ -12,6 +12,35 @@ use surrogate::{
     green_kubo_matches, keep_green_kubo_at_lowest_peclet, states, StateFits, StatePoint,
 };
 
+/// Where a grid's flow curves are read from.
+#[derive(Clone, Copy)]
+pub enum FlowCurveSource<'a> {
+    /// The work directories of `generate`: one, or one per shard of the grid, in the
+    /// shards' order.
+    Runs(&'a [PathBuf]),
+    /// A table written earlier from the runs (`flow_curves.csv`).
+    Table(&'a Path),
+    /// Such a table with the runs finished in the work directories `runs` in place of its
+    /// lines of the same scenes (part of a grid run again, after a change of the code, say).
+    Updated {
+        table: &'a Path,
+        runs: &'a [PathBuf],
+    },
+}
+
+impl<'a> FlowCurveSource<'a> {
+    /// The source of an earlier table `table` and the work directories `runs`, either of
+    /// which may be absent: the table alone, the runs alone, or the runs in place of the
+    /// table's lines.
+    pub fn new(table: Option<&'a Path>, runs: &'a [PathBuf]) -> Self {
+        match (table, runs.is_empty()) {
+            (Some(table), true) => Self::Table(table),
+            (Some(table), false) => Self::Updated { table, runs },
+            (None, _) => Self::Runs(runs),
+        }
+    }
+}
+
 /// The flow curves of the finished runs of a grid.
 pub struct FlowCurves {
     /// Each finished run's line of `flow_curves.csv`, in grid order.
@@ -25,9 +54,30 @@ pub struct FlowCurves {
 }
 
 impl FlowCurves {
+    /// The curves of the runs of `grid` read from `source`, with the Green-Kubo results
+    /// `green_kubo` (replicas of the grid's volume fractions), as [`Self::fit`],
+    /// [`Self::from_table`] and [`Self::updated`] make them.
+    pub fn read(
+        grid: &Grid,
+        source: FlowCurveSource,
+        green_kubo: &[(PathBuf, GreenKuboResult)],
+    ) -> Result<Self> {
+        let runs = |dirs| {
+            let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
+            FlowRuns::read(grid, dirs, &results)
+        };
+        match source {
+            FlowCurveSource::Runs(dirs) => Self::fit(runs(dirs)?, green_kubo),
+            FlowCurveSource::Table(table) => Self::from_table(grid, table, green_kubo),
+            FlowCurveSource::Updated { table, runs: dirs } => {
+                Self::updated(grid, table, runs(dirs)?, green_kubo)
+            }
+        }
+    }
+
     /// The curves of `runs`, with the Green-Kubo results `green_kubo` (replicas of the grid's
     /// volume fractions). Refuses a result whose volume fraction is that of no finished run.
-    pub fn fit(runs: FlowRuns, green_kubo: &[(PathBuf, GreenKuboResult)]) -> Result<Self> {
+    fn fit(runs: FlowRuns, green_kubo: &[(PathBuf, GreenKuboResult)]) -> Result<Self> {
         let FlowRuns { points, missing } = runs;
         let rows = points.iter().map(FlowCurveRow::of).collect();
         let curve = points.iter().map(|p| p.point).collect();
@@ -38,7 +88,7 @@ impl FlowCurves {
     /// `grid`, with the Green-Kubo results `green_kubo`: the same curves and fits as from
     /// the runs themselves, without them. Refuses a line of a scene that is not the grid's,
     /// and Green-Kubo results as [`Self::fit`] does.
-    pub fn from_table(
+    fn from_table(
         grid: &Grid,
         table: &Path,
         green_kubo: &[(PathBuf, GreenKuboResult)],
@@ -59,7 +109,7 @@ impl FlowCurves {
     /// grid run again, after a change of the code, say; each line keeps its run's
     /// `code_version`), in grid order. Refuses the table as [`Self::from_table`] and
     /// Green-Kubo results as [`Self::fit`] do.
-    pub fn updated(
+    fn updated(
         grid: &Grid,
         table: &Path,
         runs: FlowRuns,

@@ -14,7 +14,7 @@ pub mod green_kubo;
 pub mod sweep_tables;
 
 pub use error::{Result, RheometryError};
-pub use flow_curves::{read_green_kubo_replicas, FlowCurves};
+pub use flow_curves::{read_green_kubo_replicas, FlowCurveSource, FlowCurves};
 pub use flow_points::{FlowCurveRow, FlowPoint, FlowRuns, PARTS};
 pub use green_kubo::GreenKuboResult;
 pub use surrogate::EnsembleSummary;

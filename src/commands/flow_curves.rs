@@ -24,9 +24,9 @@
 //! `[observables] stress` convention (the same pair stresslets by default; with the
 //! one-body drag stresslet under `pairs+drag`, as the shipped datasets were made).
 use crate::plots::flow_curves::{draw_figures, draw_peclet_figure, peclet_figure};
-use crate::report::flow_curves::{summary_text, Command, Source};
+use crate::report::flow_curves::{summary_text, Command};
 use anyhow::Context;
-use rheometry::{read_green_kubo_replicas, FlowCurveRow, FlowCurves, FlowRuns};
+use rheometry::{read_green_kubo_replicas, FlowCurveRow, FlowCurveSource, FlowCurves};
 use schema::write_atomic;
 use sim::input::grid::Grid;
 use std::path::PathBuf;
@@ -73,10 +73,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let grid = Grid::from_path(&args.grid, false)?;
     let _lock = crate::output_guard::claim_dir(&args.out, "`suspflow flow-curves`")?;
     let green_kubo = read_green_kubo_replicas(&args.green_kubo).context("--green-kubo")?;
-    if args.runs.is_empty() {
-        let table = args.table.as_ref().context("give --runs or --table")?;
-        let curves = FlowCurves::from_table(&grid, table, &green_kubo)
-            .with_context(|| format!("--table {}", table.display()))?;
+    let source = FlowCurveSource::new(args.table.as_deref(), &args.runs);
+    let curves = FlowCurves::read(&grid, source, &green_kubo).with_context(|| match source {
+        FlowCurveSource::Runs(_) => "--runs".to_owned(),
+        FlowCurveSource::Table(table) => format!("--table {}", table.display()),
+        FlowCurveSource::Updated { table, .. } => format!("--table {} --runs", table.display()),
+    })?;
+    if let FlowCurveSource::Table(table) = source {
         warn_missing(
             &curves.missing,
             grid.runs.len(),
@@ -84,7 +87,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
         refuse_earlier(&args, &["README.md"])?;
         draw(&args, &curves)?;
-        write_readme(&args, Source::Table(table), &curves, None)?;
+        write_readme(&args, source, &curves, None)?;
         eprintln!(
             "made the figures and the README of {} again in {}",
             table.display(),
@@ -92,21 +95,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
         return Ok(());
     }
-    let runs = &args.runs;
-    let results: Vec<_> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
-    let found = FlowRuns::read(&grid, runs, &results).context("--runs")?;
-    let (curves, source) = match &args.table {
-        Some(table) => (
-            FlowCurves::updated(&grid, table, found, &green_kubo)
-                .with_context(|| format!("--table {}", table.display()))?,
-            Source::Updated { table, runs },
-        ),
-        None => (
-            FlowCurves::fit(found, &green_kubo).context("--green-kubo")?,
-            Source::Runs(runs),
-        ),
-    };
-    let folders = runs
+    let folders = args
+        .runs
         .iter()
         .map(|r| r.display().to_string())
         .collect::<Vec<_>>()
@@ -151,7 +141,7 @@ fn refuse_earlier(args: &Args, names: &[&str]) -> anyhow::Result<()> {
 /// prints it.
 fn write_readme(
     args: &Args,
-    source: Source,
+    source: FlowCurveSource,
     curves: &FlowCurves,
     local: Option<&[LocalBand]>,
 ) -> anyhow::Result<()> {

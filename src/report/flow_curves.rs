@@ -1,5 +1,6 @@
 //! The markdown summary (`README.md`) of `suspflow flow-curves`.
 use crate::plots::flow_curves::{label, several_densities};
+use rheometry::FlowCurveSource;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use surrogate::rheology::local_viscosity::{self, LocalBand};
@@ -8,25 +9,10 @@ use surrogate::{
     StatePoint, CONVENTIONS, MIN_VOLUME_FRACTIONS, PHI_J_MAX, SEEDS_LAW, SEEDS_LOW_PECLET_PHI_J,
 };
 
-/// Where the curves were read from.
-pub enum Source<'a> {
-    /// The work directories of `suspflow generate`: one, or one per shard (`--shard I/N`,
-    /// in the shards' order).
-    Runs(&'a [PathBuf]),
-    /// A `flow_curves.csv` that the command wrote earlier from the runs.
-    Table(&'a Path),
-    /// Such a table with the runs finished in the work directories `runs` in place of its
-    /// lines of the same scenes.
-    Updated {
-        table: &'a Path,
-        runs: &'a [PathBuf],
-    },
-}
-
 /// What the command was given, for the summary's record of how it was made.
 pub struct Command<'a> {
     pub grid: &'a Path,
-    pub source: Source<'a>,
+    pub source: FlowCurveSource<'a>,
     pub local: Option<&'a Path>,
     pub green_kubo: &'a [PathBuf],
     pub out: &'a Path,
@@ -87,19 +73,19 @@ pub fn summary_text(
             .collect::<String>();
     let grid = cmd.grid.display();
     let made = match cmd.source {
-        Source::Runs(runs) => format!(
+        FlowCurveSource::Runs(runs) => format!(
             "{}suspflow flow-curves {grid} --runs {}{options} --out {}\n```\n",
             generate_lines(cmd.grid, runs, false),
             folder_list(runs),
             cmd.out.display()
         ),
-        Source::Table(table) => format!(
+        FlowCurveSource::Table(table) => format!(
             "suspflow flow-curves {grid} --table {}{options} --out {}\n```\n\n\
              from the table that `suspflow flow-curves {grid} --runs ...` wrote earlier.\n",
             table.display(),
             cmd.out.display()
         ),
-        Source::Updated { table, runs } => {
+        FlowCurveSource::Updated { table, runs } => {
             let folders = folder_list(runs);
             format!(
                 "{}suspflow flow-curves {grid} --table {} --runs {folders}{options} --out {}\n\

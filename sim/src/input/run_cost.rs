@@ -11,8 +11,12 @@ use schema::work_cost;
 pub const PARTICLE_STEPS_PER_S: f64 = 1e6;
 
 /// The same for a Brownian scene's implicit (midpoint) step, two force evaluations and two
-/// solves a step: `suspflow bench --brownian --n 1000` runs 1.4-1.6e5 per core (two cores
-/// 3e5), dense frictional suspensions about a third of that (docs/physics.md section 11).
+/// solves a step, set by the slowest scenes measured, so that estimates err long elsewhere:
+/// the dense frictional colloid-grain mixtures run 2.7-3.9e5 per core (reports/mixtures
+/// README's cost table). Frictionless scenes run 2-3x faster: `suspflow bench --brownian`
+/// (thesis Table 4.1's state, code 309b1b7, quiet machine) 8.9e5 at N 1000 and 7.7e5 at
+/// N 4000 on one core, 9.1e5 and 8.8e5 on two; the Pe 0.1 step-convergence runs (N
+/// 1013-1238) about 8e5 per core.
 pub const BROWNIAN_PARTICLE_STEPS_PER_S: f64 = 3e5;
 
 /// The cost of a run to its strain budget plus its averaging.

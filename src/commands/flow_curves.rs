@@ -24,7 +24,7 @@
 //! `[observables] stress` convention (the same pair stresslets by default; with the
 //! one-body drag stresslet under `pairs+drag`, as the shipped datasets were made).
 use crate::plots::flow_curves::{draw_figures, draw_peclet_figure, peclet_figure};
-use crate::report::flow_curves::{summary_text, Command};
+use crate::report::flow_curves::{folder_list, summary_text, Command};
 use anyhow::Context;
 use rheometry::{read_green_kubo_replicas, FlowCurveRow, FlowCurveSource, FlowCurves};
 use schema::write_atomic;
@@ -95,12 +95,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
         return Ok(());
     }
-    let folders = args
-        .runs
-        .iter()
-        .map(|r| r.display().to_string())
-        .collect::<Vec<_>>()
-        .join(" ");
+    let folders = folder_list(&args.runs);
     warn_missing(
         &curves.missing,
         grid.runs.len(),

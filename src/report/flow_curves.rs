@@ -45,7 +45,7 @@ fn generate_lines(grid: &Path, runs: &[PathBuf], again: bool) -> String {
 }
 
 /// The work directories `runs`, separated by spaces.
-fn folder_list(runs: &[PathBuf]) -> String {
+pub fn folder_list(runs: &[PathBuf]) -> String {
     runs.iter()
         .map(|r| r.display().to_string())
         .collect::<Vec<_>>()

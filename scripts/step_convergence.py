@@ -8,7 +8,11 @@ flow-curves`' per-run table (`flow_curves.csv`) and each run's step, from the ru
 `suspflow generate` (`bins.scenes.csv`) or, for runs made one by one (`suspflow simulate`
 into the grid's work folders), from each folder's `summary.json` (give the work folder
 instead); this script only pairs, pools and tabulates them. A state is (phi, rho, Pe, mu_p)
-and, in a mixture grid, alpha (printed beside phi).
+and, in a mixture grid, alpha (printed beside phi); runs of one such state whose scenes'
+`[forces]` differ (a grid's cases at two contact stiffnesses, say) are told apart by the
+entries that differ, printed beside phi as well. Each run's scene is read from
+`<run>/scene.toml` in the `--set`'s work folder, or beside its table in `runs.done`; a run
+whose scene is not found is told apart from none.
 
 Two tables. Per seed: a run against the shortest step of its seed, their difference against
 its combined block standard error. Pooled over seeds (several `--set`s may add seeds of the
@@ -38,6 +42,7 @@ import math
 import os
 import statistics
 import sys
+import tomllib
 from collections import defaultdict
 
 PARTS = ["eta_r", "eta_r_contact", "eta_r_hydrodynamic", "eta_r_brownian"]
@@ -60,11 +65,41 @@ def steps_from_work(work, curves):
     return steps
 
 
+def scene_forces(curves_path, steps_path, row):
+    """The `[forces]` table of a run's scene.toml (None where it is not found): in the work
+    folder `steps_path`, else in the `runs.done` folder beside the table `curves_path`."""
+    folder = steps_path if os.path.isdir(steps_path) else os.path.join(os.path.dirname(curves_path), "runs.done")
+    path = os.path.join(folder, f"{row['scene_id']}_seed{row['seed']}", "scene.toml")
+    if not os.path.exists(path):
+        return None
+    with open(path, "rb") as f:
+        return tomllib.load(f).get("forces", {})
+
+
+def labelled(entries):
+    """Each (state, seed, run) of `entries` with its state's label (the 5th entry, printed
+    beside phi): `alpha A` in a mixture grid, and the `[forces]` entries in which the scenes
+    of one state differ, e.g. `k_n 3000.0`."""
+    by_state = defaultdict(list)
+    for state, forces, seed, run in entries:
+        by_state[state].append(forces)
+    varying = {}
+    for state, found in by_state.items():
+        known = [f for f in found if f is not None]
+        names = sorted({k for f in known for k in f})
+        varying[state] = [k for k in names if len({repr(f.get(k)) for f in known}) > 1]
+    for state, forces, seed, run in entries:
+        phi, rho, pe, mu, alpha = state
+        label = [f"alpha {alpha}"] if alpha else []
+        label += [f"{k} {forces.get(k) if forces is not None else '?'}" for k in varying[state]]
+        yield (phi, rho, pe, mu, ", ".join(label)), seed, run
+
+
 def seed_pairs(sets, against_last=False):
-    """(phi, rho, Pe, mu_p, dt, dt_ref) -> per seed: (dt, its limit, run at dt, run at dt_ref),
-    dt_ref the shortest step of that state and seed or, with `against_last`, the step of the
-    last set's run of it (e.g. a grid rerun under a new step rule against the old runs)."""
-    runs = defaultdict(list)
+    """(phi, rho, Pe, mu_p, label, dt, dt_ref) -> per seed: (dt, its limit, run at dt, run at
+    dt_ref), dt_ref the shortest step of that state and seed or, with `against_last`, the step
+    of the last set's run of it (e.g. a grid rerun under a new step rule against the old runs)."""
+    entries = []
     for index, (curves_path, steps_path) in enumerate(sets):
         curves = read(curves_path)
         steps = (steps_from_work(steps_path, curves) if os.path.isdir(steps_path)
@@ -77,7 +112,11 @@ def seed_pairs(sets, against_last=False):
             state = (float(row["phi"]), float(row["rho"]), float(row["peclet"] or "nan"),
                      float(row["mu_p"]), row.get("alpha") or "")
             rank = (against_last and last, -float(run["dt"]))
-            runs[(state, row["seed"])].append((rank, float(run["dt"]), run["dt_limit"], row))
+            entries.append((state, scene_forces(curves_path, steps_path, row), row["seed"],
+                            (rank, float(run["dt"]), run["dt_limit"], row)))
+    runs = defaultdict(list)
+    for state, seed, run in labelled(entries):
+        runs[(state, seed)].append(run)
     pairs = defaultdict(list)
     for (state, seed), rs in sorted(runs.items()):
         if not against_last:
@@ -137,9 +176,9 @@ def main():
     ]
     failures = compared = 0
     for key, seeds in sorted(pairs.items(), key=lambda kv: kv[0][:5] + (-kv[0][5],)):
-        phi, rho, pe, mu, alpha, _, dt_ref = key
-        if alpha:
-            phi = f"{phi} (alpha {alpha})"
+        phi, rho, pe, mu, label, _, dt_ref = key
+        if label:
+            phi = f"{phi} ({label})"
         cells = []
         for part in PARTS:
             diffs, block_var, longs, shorts = [], 0.0, [], []

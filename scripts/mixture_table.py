@@ -2,13 +2,14 @@
 """The viscosity table of colloid-grain mixtures (issue 29): the mixture rows of one or
 more `suspflow flow-curves` tables (flow_curves.csv, whose last columns carry a mixture's
 composition and Peclet numbers), reduced to the columns the mixture study compares with
-the thesis, sorted by alpha, phi, friction, Pe_c, seed, density, step and code version; a
-run found in two tables (the same scene, seed, density and step in two grids, the same
-bits) is kept once, and runs of one state by two codes that drew other random numbers are
-both kept. Nothing is computed here: every value is the flow-curves table's. Tables written
-before flow-curves recorded each run's `rho`, `dt` and `code_version` leave those empty and
-name, as the code version, the commit that added the table (the runs' code is that
-commit's or older).
+the thesis, sorted by alpha, phi, friction, Pe_c, seed, density, step, contacts and code
+version; a run found in two tables (the same scene, seed, density, step and contacts in two
+grids, the same bits) is kept once, and runs of one state by two codes that drew other
+random numbers are both kept. Nothing is computed here: every value is the flow-curves
+table's. Tables written before flow-curves recorded each run's `rho`, `dt` and
+`code_version` leave those empty and name, as the code version, the commit that added the
+table (the runs' code is that commit's or older); their contacts (`k_n`, `xi_min`) are
+those `flow-curves --table` writes again from the grid.
 
     python3 scripts/mixture_table.py reports/mixtures/pe1/flow_curves.csv \
         reports/mixtures/grains_pe/flow_curves.csv --out reports/mixtures/viscosity.csv
@@ -25,8 +26,9 @@ COLUMNS = [
     "eta_r_hydrodynamic", "eta_r_hydrodynamic_se", "eta_r_brownian", "eta_r_brownian_se",
     "scene_id",
 ]
-# Columns of newer flow-curves tables: the particle density, the step, the code version.
-RECORDED = ["rho", "dt", "code_version"]
+# Columns of newer flow-curves tables: the particle density, the step, the code version and
+# the contacts (the normal stiffness and the lubrication's inner gap).
+RECORDED = ["rho", "dt", "code_version", "k_n", "xi_min"]
 
 
 def table_commit(path):
@@ -70,21 +72,23 @@ def main():
     unique = {}
     for r in rows:
         key = (r["alpha"], r["phi"], r["mu_p"], r["peclet_c"], r["seed"], r["n_particles"],
-               r["rho"], r["dt"])
+               r["rho"], r["dt"], r["k_n"], r["xi_min"])
         same = unique.setdefault(key, [])
         if any(u["eta_r"] == r["eta_r"] for u in same):
             continue
         clash = [u for u in same if u["code_version"] == r["code_version"]]
         if clash:
             sys.exit(f"two runs of alpha {key[0]}, phi {key[1]}, mu_p {key[2]}, Pe_c {key[3]}, "
-                     f"seed {key[4]}, rho {key[6]}, dt {key[7]} by code {r['code_version']} "
-                     f"differ: eta_r {clash[0]['eta_r']} and {r['eta_r']}")
+                     f"seed {key[4]}, rho {key[6]}, dt {key[7]}, k_n {key[8]}, xi_min {key[9]} "
+                     f"by code {r['code_version']} differ: eta_r {clash[0]['eta_r']} and "
+                     f"{r['eta_r']}")
         same.append(r)
     rows = [r for same in unique.values() for r in same]
     # Runs without Brownian forces have no Peclet number (infinite): last of their state.
     rows.sort(key=lambda r: (float(r["alpha"]), float(r["phi"]), float(r["mu_p"]),
                              float(r["peclet_c"] or "inf"), int(r["seed"]),
-                             float(r["rho"] or 0), float(r["dt"] or 0), r["code_version"]))
+                             float(r["rho"] or 0), float(r["dt"] or 0),
+                             float(r["k_n"] or 0), float(r["xi_min"] or 0), r["code_version"]))
     with open(args.out, "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=COLUMNS + RECORDED)
         writer.writeheader()

@@ -4,8 +4,9 @@
 Each folder under reports/ with a flow_curves.csv and a README.md written by
 `suspflow flow-curves` names the command that produced it; this runs that command with
 `--table <folder>/flow_curves.csv` in place of `--runs` (and without `--local`, which only
-adds a section to the README), so the figures (SVG, with their data beside them as CSV) are
-those the current code draws, while the table and the README stay as they are.
+adds a section to the README), so the figures (SVG, with their data beside them as CSV), the
+README and the table are those the current code writes from the table: its lines as they
+are, with the columns added since that the grid gives (the contacts) filled in.
 
     python3 scripts/redraw_flow_curve_figures.py [--bin target/release/suspflow] [FOLDER ...]
 """

@@ -919,8 +919,9 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
         .filter(|name| name != "run.lock")
         .collect();
     figures.sort();
-    // eta_r, mu_J and one eta_r(Pe) per volume fraction, each as SVG and CSV, and the README.
-    assert_eq!(figures.len(), 2 * (2 + phis.len()) + 1, "{figures:?}");
+    // eta_r, mu_J and one eta_r(Pe) per volume fraction, each as SVG and CSV, the README and
+    // the table.
+    assert_eq!(figures.len(), 2 * (2 + phis.len()) + 2, "{figures:?}");
     let again_readme = std::fs::read_to_string(redrawn.join("README.md")).unwrap();
     assert!(
         again_readme.contains(&format!("--table {}", table.display())),
@@ -933,6 +934,7 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
             .to_owned()
     };
     assert_eq!(after_command(&again_readme), after_command(&readme));
+    // The table itself is written again as it was: this version's table has nothing to fill.
     for name in figures.iter().filter(|name| *name != "README.md") {
         assert_eq!(
             std::fs::read(redrawn.join(name)).unwrap(),
@@ -940,6 +942,55 @@ fn flow_curves_over_the_peclet_number_split_the_viscosity() {
             "{name}"
         );
     }
+    // A table written before the contacts were columns gets them from the grid (the scenes'
+    // k_n and xi_min, here the defaults 1e4 and 1e-3 no line wrote), every other cell as it
+    // was; a line whose volume fraction is no longer its scene's is refused.
+    let written = std::fs::read_to_string(&table).unwrap();
+    let without_contacts: String = written
+        .lines()
+        .map(|line| line.rsplitn(3, ',').last().unwrap().to_owned() + "\n")
+        .collect();
+    assert!(without_contacts.starts_with("scene_id,") && !without_contacts.contains("k_n"));
+    let old_dir = run.dir.join("old");
+    std::fs::create_dir_all(&old_dir).unwrap();
+    let old_table = old_dir.join("flow_curves.csv");
+    std::fs::write(&old_table, &without_contacts).unwrap();
+    let upgraded = run.dir.join("upgraded");
+    let table_at = again.iter().position(|a| *a == "--table").unwrap();
+    again[table_at + 1] = old_table.to_str().unwrap();
+    again[out_at + 1] = upgraded.to_str().unwrap();
+    assert_ok(&suspflow(&again));
+    assert_eq!(
+        std::fs::read_to_string(upgraded.join("flow_curves.csv")).unwrap(),
+        written
+    );
+    let phi_at = written
+        .lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|c| c == "phi")
+        .unwrap();
+    let edited: String = without_contacts
+        .lines()
+        .enumerate()
+        .map(|(k, line)| {
+            let mut cells: Vec<String> = line.split(',').map(String::from).collect();
+            if k == 1 {
+                cells[phi_at] = "0.6".into();
+            }
+            cells.join(",") + "\n"
+        })
+        .collect();
+    std::fs::write(&old_table, edited).unwrap();
+    let edited_out = run.dir.join("edited");
+    again[out_at + 1] = edited_out.to_str().unwrap();
+    let refused = suspflow(&again);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && stderr.contains("has phi 0.6, the grid's scene 0.4"),
+        "{stderr}"
+    );
     // The table of another grid is refused, naming the scene the grid lacks.
     let refused = suspflow(&[
         "flow-curves",

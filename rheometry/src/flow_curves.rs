@@ -186,8 +186,9 @@ impl FlowCurves {
 }
 
 /// The lines of the table `table` written earlier for the runs of `grid`, each with its
-/// point (the Green-Kubo viscosity of `green_kubo` at its volume fraction). Refuses a line
-/// of a scene that is not the grid's.
+/// point (the Green-Kubo viscosity of `green_kubo` at its volume fraction) and its
+/// contacts from the grid. Refuses a line of a scene that is not the grid's, or whose
+/// recorded state is not its scene's ([`FlowCurveRow::of_grid`]).
 fn table_points(
     grid: &Grid,
     table: &Path,
@@ -195,20 +196,31 @@ fn table_points(
 ) -> Result<Vec<(FlowCurveRow, StatePoint)>> {
     let results: Vec<GreenKuboResult> = green_kubo.iter().map(|(_, r)| r.clone()).collect();
     let replicas = replicas(&results);
+    let refused = |message| RheometryError::File {
+        path: table.display().to_string(),
+        message,
+    };
     FlowCurveRow::read_all(table)?
         .into_iter()
         .map(|row| {
-            let gs = grid.runs.iter().find(|gs| gs.id == row.scene_id);
-            let point =
-                gs.map(|gs| row.point(gs, &replicas))
-                    .ok_or_else(|| RheometryError::File {
-                        path: table.display().to_string(),
-                        message: format!(
-                            "holds scene {}, which grid `{}` does not have: give the grid the \
-                         table was made of",
-                            row.scene_id, grid.name
-                        ),
-                    })?;
+            let gs = grid
+                .runs
+                .iter()
+                .find(|gs| gs.id == row.scene_id)
+                .ok_or_else(|| {
+                    refused(format!(
+                        "holds scene {}, which grid `{}` does not have: give the grid the table \
+                     was made of",
+                        row.scene_id, grid.name
+                    ))
+                })?;
+            let row = row.of_grid(gs).map_err(|reason| {
+                refused(format!(
+                    "{reason} in grid `{}`: give the grid the table was made of",
+                    grid.name
+                ))
+            })?;
+            let point = row.point(gs, &replicas);
             Ok((row, point))
         })
         .collect()

@@ -42,6 +42,8 @@ pub struct FlowPoint {
     pub kt: f64,
     /// `tau_I / tau_B = rho kT / (eta^2 a)` of a Brownian scene.
     pub inertia_diffusion: Option<f64>,
+    /// The contact stiffness and the lubrication's inner gap of its scene ([`contacts_of`]).
+    pub contacts: (f64, f64),
     pub point: StatePoint,
 }
 
@@ -143,6 +145,7 @@ impl FlowRuns {
                 rheology,
                 kt: gs.scene.file.fluid.kt,
                 inertia_diffusion: gs.scene.thermal.map(|t| t.inertia_diffusion),
+                contacts: contacts_of(gs),
             });
         }
         if found.points.is_empty() {
@@ -183,6 +186,14 @@ pub(crate) fn state_of(gs: &GridRun) -> State {
     }
 }
 
+/// `(k_n, xi_min)` of the grid's scene `gs`: the normal contact stiffness and the
+/// lubrication's inner regularisation of the gap (`[forces]`), what tells apart runs of one
+/// state made with other contacts (a check of the step at a softer contact, say).
+pub(crate) fn contacts_of(gs: &GridRun) -> (f64, f64) {
+    let forces = &gs.scene.file.forces;
+    (forces.k_n, forces.xi_min)
+}
+
 /// The Green-Kubo results as `(phi_actual, eta_B / eta, its standard error)`, the
 /// extrapolated viscosity of each: what `surrogate::green_kubo_at` averages at a point.
 pub(crate) fn replicas(green_kubo: &[GreenKuboResult]) -> Vec<(f64, f64, f64)> {
@@ -203,9 +214,10 @@ pub(crate) fn replicas(green_kubo: &[GreenKuboResult]) -> Vec<(f64, f64, f64)> {
 /// other scenes).
 ///
 /// Tables written before a column existed still read back: the columns added since the first
-/// tables (the state, the parts, the composition, the density, the step, the code version)
-/// are NaN, or none, where they are missing, and the state of a redrawn point comes from its
-/// grid ([`FlowCurveRow::point`]).
+/// tables (the state, the parts, the composition, the density, the step, the code version,
+/// the contacts) are NaN, or none, where they are missing, and the state of a redrawn point
+/// comes from its grid ([`FlowCurveRow::point`]), as do its contacts when the table is read
+/// with its grid ([`FlowCurveRow::of_grid`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FlowCurveRow {
     pub scene_id: String,
@@ -274,6 +286,12 @@ pub struct FlowCurveRow {
     /// The version of the code that made the run (its `summary.json`).
     #[serde(default)]
     pub code_version: Option<String>,
+    /// Normal contact stiffness of the run's scene (`forces.k_n`, units of force per length).
+    #[serde(default = "not_recorded")]
+    pub k_n: f64,
+    /// The lubrication's inner regularisation of the dimensionless gap (`forces.xi_min`).
+    #[serde(default = "not_recorded")]
+    pub xi_min: f64,
 }
 
 /// A value of a column that an older table lacks.
@@ -327,7 +345,38 @@ impl FlowCurveRow {
             tau_i_over_tau_b: point.inertia_diffusion,
             dt: s.dt,
             code_version: Some(s.code_version.clone()),
+            k_n: point.contacts.0,
+            xi_min: point.contacts.1,
         }
+    }
+
+    /// This line of a table written earlier, read with the grid's scene `gs` it was made of:
+    /// the contacts an older table did not record taken from the scene. Refuses (with the
+    /// reason) a line whose recorded state is not the scene's: a volume fraction, friction
+    /// coefficient, Peclet number or contacts of another scene (a grid edited since the
+    /// table was written, whose scene of this id is now another).
+    pub fn of_grid(mut self, gs: &GridRun) -> std::result::Result<Self, String> {
+        let (k_n, xi_min) = contacts_of(gs);
+        let state = state_of(gs);
+        let recorded = [
+            ("phi", self.phi, gs.scene.file.particles.phi),
+            ("mu_p", self.mu_p, state.mu_p),
+            ("peclet", self.peclet, state.peclet),
+            ("k_n", self.k_n, k_n),
+            ("xi_min", self.xi_min, xi_min),
+        ];
+        if let Some((name, line, scene)) = recorded
+            .into_iter()
+            .find(|&(_, line, scene)| !line.is_nan() && line != scene)
+        {
+            return Err(format!(
+                "its line of scene {} has {name} {line}, the grid's scene {scene}",
+                self.scene_id
+            ));
+        }
+        self.k_n = k_n;
+        self.xi_min = xi_min;
+        Ok(self)
     }
 
     /// The point of this line, a run of the grid's scene `gs`, with the Green-Kubo viscosity

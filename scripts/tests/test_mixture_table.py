@@ -1,6 +1,7 @@
 """scripts/mixture_table.py, which writes reports/mixtures/viscosity.csv: a run found in two
-tables is kept once, runs of one state by two codes are both kept, two different runs of one
-state by one code are an error, rows are sorted by state, and nothing is overwritten unasked."""
+tables is kept once, runs of one state by two codes, or with other contacts, are both kept,
+two different runs of one state by one code are an error, rows are sorted by state, and
+nothing is overwritten unasked."""
 import csv
 
 COLUMNS = [
@@ -11,11 +12,12 @@ COLUMNS = [
 ]
 
 
-def run_row(alpha, peclet_c, seed, eta, code="0.1.0+gabc", mu_p=0.0):
+def run_row(alpha, peclet_c, seed, eta, code="0.1.0+gabc", mu_p=0.0, k_n=10000.0):
     row = {c: "1" for c in COLUMNS}
     row.update({"alpha": alpha, "phi": 0.565, "peclet_c": peclet_c, "mu_p": mu_p, "seed": seed,
                 "n_particles": 980, "eta_r": eta, "scene_id": f"s{alpha}_{peclet_c}",
-                "rho": 0.1, "dt": 0.001, "code_version": code, "kT": 0.1})
+                "rho": 0.1, "dt": 0.001, "code_version": code, "kT": 0.1, "k_n": k_n,
+                "xi_min": 0.001})
     return row
 
 
@@ -29,21 +31,25 @@ def test_duplicates_once_codes_apart_and_sorted(tmp_path, write_csv, run_script)
         run_row(0.7, 1.0, 2, 50.0), run_row(0.5, 1.0, 1, 30.0), run_row(0.5, 0.1, 1, 40.0),
         {**run_row(0.5, 1.0, 1, 0.0), "alpha": ""},  # a monodisperse row: not a mixture's
     ])
-    # The same run again, and the same state by another code (another noise stream).
+    # The same run again, the same state by another code (another noise stream), and by the
+    # same code with softer contacts.
     second = write_csv(tmp_path / "b.csv", [run_row(0.5, 1.0, 1, 30.0),
-                                            run_row(0.5, 1.0, 1, 31.0, code="0.1.0+gdef")])
+                                            run_row(0.5, 1.0, 1, 31.0, code="0.1.0+gdef"),
+                                            run_row(0.5, 1.0, 1, 32.0, k_n=3000.0)])
     out = tmp_path / "viscosity.csv"
     status, stdout, err = run_script("mixture_table.py", first, second, "--out", out)
     assert status == 0, err
     rows = read(out)
-    assert list(rows[0]) == COLUMNS + ["rho", "dt", "code_version"]
-    assert [(r["alpha"], r["peclet_c"], r["eta_r"], r["code_version"]) for r in rows] == [
-        ("0.5", "0.1", "40.0", "0.1.0+gabc"),
-        ("0.5", "1.0", "30.0", "0.1.0+gabc"),
-        ("0.5", "1.0", "31.0", "0.1.0+gdef"),
-        ("0.7", "1.0", "50.0", "0.1.0+gabc"),
+    assert list(rows[0]) == COLUMNS + ["rho", "dt", "code_version", "k_n", "xi_min"]
+    assert [(r["alpha"], r["peclet_c"], r["eta_r"], r["code_version"], r["k_n"])
+            for r in rows] == [
+        ("0.5", "0.1", "40.0", "0.1.0+gabc", "10000.0"),
+        ("0.5", "1.0", "32.0", "0.1.0+gabc", "3000.0"),
+        ("0.5", "1.0", "30.0", "0.1.0+gabc", "10000.0"),
+        ("0.5", "1.0", "31.0", "0.1.0+gdef", "10000.0"),
+        ("0.7", "1.0", "50.0", "0.1.0+gabc", "10000.0"),
     ]
-    assert "4 rows from 2 table(s)" in stdout
+    assert "5 rows from 2 table(s)" in stdout
 
 
 def test_two_different_runs_of_one_state_by_one_code_are_an_error(tmp_path, write_csv, run_script):

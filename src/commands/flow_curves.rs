@@ -14,8 +14,9 @@
 //!
 //! With `--table DIR/flow_curves.csv` instead of `--runs`, the figures (and the data beside
 //! them) and the README are made again from that table, written earlier, without the runs
-//! (with `--green-kubo`, the seeds' Pe -> 0 estimate among the fits); the table is left as
-//! it is. With both `--table` and `--runs`, the runs finished there take the place of the
+//! (with `--green-kubo`, the seeds' Pe -> 0 estimate among the fits), and the table is
+//! written into `--out` as this version writes it: the same lines, with the columns added
+//! since that the grid gives (the contacts) filled in. With both `--table` and `--runs`, the runs finished there take the place of the
 //! table's lines of the same scenes (part of a grid run again) and the table is written
 //! anew into `--out`.
 //!
@@ -79,31 +80,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         FlowCurveSource::Table(table) => format!("--table {}", table.display()),
         FlowCurveSource::Updated { table, .. } => format!("--table {} --runs", table.display()),
     })?;
-    if let FlowCurveSource::Table(table) = source {
-        warn_missing(
-            &curves.missing,
-            grid.runs.len(),
-            &table.display().to_string(),
-        );
-        refuse_earlier(&args, &["README.md"])?;
-        draw(&args, &curves)?;
-        write_readme(&args, source, &curves, None)?;
-        eprintln!(
-            "made the figures and the README of {} again in {}",
-            table.display(),
-            args.out.display()
-        );
-        return Ok(());
-    }
-    let folders = folder_list(&args.runs);
-    warn_missing(
-        &curves.missing,
-        grid.runs.len(),
-        &format!(
-            "{folders} (run `suspflow generate {} --out ... --work FOLDER`)",
+    let from = match source {
+        FlowCurveSource::Table(table) => table.display().to_string(),
+        _ => format!(
+            "{} (run `suspflow generate {} --out ... --work FOLDER`)",
+            folder_list(&args.runs),
             args.grid.display(),
         ),
-    );
+    };
+    warn_missing(&curves.missing, grid.runs.len(), &from);
     let local = match &args.local {
         Some(path) => Some(local_viscosity::bands(
             &Dataset::read_csv(path).with_context(|| format!("reading {}", path.display()))?,

@@ -29,15 +29,18 @@ def recorded_command(folder: pathlib.Path) -> list:
 
 
 def redraw_arguments(args: list, folder: pathlib.Path) -> list:
-    """`args` with `--table` for `--runs`, no `--local`, `--out` the folder, and `--force`."""
+    """`args` with the folder's own table for `--runs` (and for the earlier `--table` of a
+    table updated by runs), no `--local`, `--out` the folder, and `--force`."""
     out, k = [], 0
     while k < len(args):
         flag = args[k]
-        if flag in ("--runs", "--local", "--out"):
-            k += 2
+        k += 1
+        if flag in ("--runs", "--table", "--local", "--out"):
+            # The flag and its values: `--runs` takes one folder per shard.
+            while k < len(args) and not args[k].startswith("--"):
+                k += 1
             continue
         out.append(flag)
-        k += 1
     return out + ["--table", str(folder / "flow_curves.csv"), "--out", str(folder), "--force"]
 
 

@@ -298,3 +298,77 @@ fn every_shipped_grid_expands_into_valid_scenes() {
     }
     assert!(checked >= 10, "{checked} grids");
 }
+
+/// A grid on a base: the base's `[scene]` (through its own base) with this grid's entries set
+/// on it section by section gives the scenes the whole scene written out gives; the base's
+/// name, [vary] and cases are not taken; a base not found, a cycle of bases and a base in
+/// text read without its file are refused.
+#[test]
+fn a_grid_on_a_base_is_the_grid_written_out() {
+    let dir = std::env::temp_dir().join(format!("grid-base-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    std::fs::write(
+        dir.join("root.toml"),
+        format!(
+            "{BASE}run = {{ sample_strain = 0.02, window_strain = 0.2 }}\n[vary]\nseed = [7, 8]\n"
+        ),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("sub/middle.toml"),
+        "name = \"m\"\nbase = \"../root.toml\"\n[scene]\nparticles = { phi = 0.45 }\n",
+    )
+    .unwrap();
+    let child = dir.join("child.toml");
+    std::fs::write(
+        &child,
+        "name = \"c\"\nbase = \"sub/middle.toml\"\n[scene]\nrun = { window_strain = 0.4 }\n\
+         [vary]\n\"box.l_y\" = [12.0, 16.0]\n",
+    )
+    .unwrap();
+    let written_out = r#"
+name = "c"
+[scene]
+box = { l_x = 8.0, l_y = 12.0, l_z = 8.0 }
+particles = { phi = 0.45 }
+fluid = { profile = "0.1*sin(2*pi*y/L)" }
+run = { sample_strain = 0.02, window_strain = 0.4 }
+[vary]
+"box.l_y" = [12.0, 16.0]
+"#;
+    let on_base = Grid::from_path(&child, false).unwrap();
+    let whole = Grid::from_toml(written_out, false).unwrap();
+    assert_eq!(on_base.runs.len(), 2, "the base's seeds are not taken");
+    for (a, b) in on_base.runs.iter().zip(&whole.runs) {
+        assert_eq!(a.id, b.id);
+        assert_eq!(
+            serde_json::to_string(&a.scene.file).unwrap(),
+            serde_json::to_string(&b.scene.file).unwrap()
+        );
+    }
+    assert_eq!(on_base.runs[0].scene.file.run.sample_strain, 0.02);
+    assert_eq!(on_base.runs[1].scene.file.particles.phi, 0.45);
+
+    let text = std::fs::read_to_string(&child).unwrap();
+    let refused = Grid::from_toml(&text, false).unwrap_err().to_string();
+    assert!(refused.contains("read the grid from its file"), "{refused}");
+    std::fs::write(
+        dir.join("lost.toml"),
+        "name = \"l\"\nbase = \"nowhere.toml\"\n",
+    )
+    .unwrap();
+    let refused = Grid::from_path(&dir.join("lost.toml"), false)
+        .unwrap_err()
+        .to_string();
+    assert!(refused.contains("nowhere.toml"), "{refused}");
+    std::fs::write(
+        dir.join("loop.toml"),
+        "name = \"o\"\nbase = \"loop.toml\"\n",
+    )
+    .unwrap();
+    let refused = Grid::from_path(&dir.join("loop.toml"), false)
+        .unwrap_err()
+        .to_string();
+    assert!(refused.contains("a cycle?"), "{refused}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -19,6 +19,12 @@
 //! last key varying fastest; scene `k` is named `<name>_<k>` with `k` zero-padded, so that
 //! sorting ids sorts scenes in grid order.
 //!
+//! A grid may start from another's scenes: a top-level `base = "other.toml"` (a path
+//! relative to this file) takes the other grid's `[scene]` (itself with its own base, if
+//! any) and sets this grid's `[scene]` entries on it, section by section (`run = { dt = 1.0 }`
+//! sets `run.dt` and keeps the base's other `run` entries); the base's name, `[vary]` and
+//! cases are not taken.
+//!
 //! Replicas: a scene whose `seed` is a list (`seed = [1, 2, 3]`, in `[scene]` or a case), or
 //! every scene of a grid with a top-level `replicas = R`, runs once per seed (see
 //! [`crate::input::replica_seeds`]). Each replica is one [`GridRun`]: the replicas of a scene
@@ -45,6 +51,50 @@ struct GridFile {
     cases: Vec<BTreeMap<String, Value>>,
     /// Replicas of every scene, seeds derived from the scene's seed.
     replicas: Option<i64>,
+    /// A grid file (relative to this one) whose `[scene]` this grid's is set on.
+    base: Option<String>,
+}
+
+/// Longest chain of grids on bases: a longer one is a cycle, or nearly.
+const BASE_DEPTH_MAX: usize = 8;
+
+/// Sets every entry of `over` on `table`: a section present in both is set entry by entry,
+/// anything else replaced.
+fn set_on(table: &mut Table, over: &Table) {
+    for (key, value) in over {
+        match (table.get_mut(key), value) {
+            (Some(Value::Table(below)), Value::Table(above)) => set_on(below, above),
+            _ => {
+                table.insert(key.clone(), value.clone());
+            }
+        }
+    }
+}
+
+/// The `[scene]` of `file`, set on its base's (read relative to `dir`, the folder of the
+/// file, if known), `depth` bases down from the grid being read.
+fn scene_on_base(file: &GridFile, dir: Option<&Path>, depth: usize) -> Result<Table, SimError> {
+    let Some(base) = &file.base else {
+        return Ok(file.scene.clone());
+    };
+    let dir = dir.ok_or_else(|| {
+        grid_error(format!(
+            "`base = \"{base}\"` names a file relative to the grid's: read the grid from its file"
+        ))
+    })?;
+    if depth >= BASE_DEPTH_MAX {
+        return Err(grid_error(format!(
+            "more than {BASE_DEPTH_MAX} grids on bases, down to {base}: a cycle?"
+        )));
+    }
+    let path = dir.join(base);
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| grid_error(format!("base {}: {e}", path.display())))?;
+    let below: GridFile =
+        toml::from_str(&text).map_err(|e| grid_error(format!("base {}: {e}", path.display())))?;
+    let mut scene = scene_on_base(&below, path.parent(), depth + 1)?;
+    set_on(&mut scene, &file.scene);
+    Ok(scene)
 }
 
 /// One run of a grid: one replica of one scene, validated.
@@ -151,15 +201,22 @@ impl Grid {
     pub fn from_path(path: &Path, strict: bool) -> Result<Grid, SimError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| grid_error(format!("{}: {e}", path.display())))?;
-        Self::from_toml(&text, strict).map_err(|e| match e {
+        Self::expand(&text, path.parent(), strict).map_err(|e| match e {
             SimError::Grid(m) => grid_error(format!("{}: {m}", path.display())),
             other => other,
         })
     }
 
-    /// Expands grid text (see the module documentation).
+    /// Expands grid text (see the module documentation); a grid with a `base` is refused
+    /// (its base is found from its file: [`Self::from_path`]).
     pub fn from_toml(text: &str, strict: bool) -> Result<Grid, SimError> {
+        Self::expand(text, None, strict)
+    }
+
+    /// Expands grid text read from a file in the folder `dir` (its `base` relative to it).
+    fn expand(text: &str, dir: Option<&Path>, strict: bool) -> Result<Grid, SimError> {
         let file: GridFile = toml::from_str(text).map_err(|e| grid_error(e.to_string()))?;
+        let scene = scene_on_base(&file, dir, 0)?;
         if file.name.is_empty()
             || !file
                 .name
@@ -232,7 +289,7 @@ impl Grid {
             for combo in 0..per_case {
                 let index = c * per_case + combo;
                 let id = format!("{}_{index:0width$}", file.name);
-                let mut table = file.scene.clone();
+                let mut table = scene.clone();
                 for (key, value) in case.iter() {
                     set_field(&mut table, key, value.clone())?;
                 }

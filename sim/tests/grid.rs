@@ -352,23 +352,14 @@ run = { sample_strain = 0.02, window_strain = 0.4 }
     let text = std::fs::read_to_string(&child).unwrap();
     let refused = Grid::from_toml(&text, false).unwrap_err().to_string();
     assert!(refused.contains("read the grid from its file"), "{refused}");
-    std::fs::write(
-        dir.join("lost.toml"),
-        "name = \"l\"\nbase = \"nowhere.toml\"\n",
-    )
-    .unwrap();
-    let refused = Grid::from_path(&dir.join("lost.toml"), false)
-        .unwrap_err()
-        .to_string();
+    let refusal = |name: &str, base: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, format!("name = \"r\"\nbase = \"{base}\"\n")).unwrap();
+        Grid::from_path(&path, false).unwrap_err().to_string()
+    };
+    let refused = refusal("lost.toml", "nowhere.toml");
     assert!(refused.contains("nowhere.toml"), "{refused}");
-    std::fs::write(
-        dir.join("loop.toml"),
-        "name = \"o\"\nbase = \"loop.toml\"\n",
-    )
-    .unwrap();
-    let refused = Grid::from_path(&dir.join("loop.toml"), false)
-        .unwrap_err()
-        .to_string();
+    let refused = refusal("loop.toml", "loop.toml");
     assert!(refused.contains("a cycle?"), "{refused}");
     std::fs::remove_dir_all(&dir).ok();
 }

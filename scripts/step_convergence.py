@@ -7,7 +7,9 @@ the run of the same seed at the shortest step of its state (for a grid at `dt_fa
 flow-curves`' per-run table (`flow_curves.csv`) and each run's step, from the run table of
 `suspflow generate` (`bins.scenes.csv`) or, for runs made one by one (`suspflow simulate`
 into the grid's work folders), from each folder's `summary.json` (give the work folder
-instead); this script only pairs, pools and tabulates them. A state is (phi, rho, Pe, mu_p)
+instead), or, given `-`, from the table's own `dt` column (recorded by flow-curves since
+its runs' steps were; the limit that set each step is then not known and shows as `?`);
+this script only pairs, pools and tabulates them. A state is (phi, rho, Pe, mu_p)
 and, in a mixture grid, alpha (printed beside phi); runs of one such state whose scenes'
 `[forces]` differ (a grid's cases at two contact stiffnesses, say) are told apart by the
 entries that differ, printed beside phi as well. Each run's scene is read from
@@ -51,6 +53,17 @@ PARTS = ["eta_r", "eta_r_contact", "eta_r_hydrodynamic", "eta_r_brownian"]
 def read(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+def steps_from_table(curves):
+    """Each run's step from the flow-curves table's own `dt` column (its limit unknown)."""
+    steps = {}
+    for row in curves:
+        if not row.get("dt") or math.isnan(float(row["dt"])):
+            sys.exit(f"run {row['scene_id']} seed {row['seed']}: the table records no step (`dt`); "
+                     "give its run table (bins.scenes.csv) or work folder instead of -")
+        steps[row["scene_id"]] = {"status": "done", "dt": row["dt"], "dt_limit": "?"}
+    return steps
 
 
 def steps_from_work(work, curves):
@@ -102,8 +115,12 @@ def seed_pairs(sets, against_last=False):
     entries = []
     for index, (curves_path, steps_path) in enumerate(sets):
         curves = read(curves_path)
-        steps = (steps_from_work(steps_path, curves) if os.path.isdir(steps_path)
-                 else {r["scene_id"]: r for r in read(steps_path)})
+        if steps_path == "-":
+            steps = steps_from_table(curves)
+        elif os.path.isdir(steps_path):
+            steps = steps_from_work(steps_path, curves)
+        else:
+            steps = {r["scene_id"]: r for r in read(steps_path)}
         last = index == len(sets) - 1
         for row in curves:
             run = steps.get(row["scene_id"])
@@ -152,8 +169,9 @@ def verdict(diff, ref, se, a):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--set", nargs=2, action="append", required=True, metavar=("CURVES", "RUNS"),
-                    help="flow-curves' per-run table and generate's run table (bins.scenes.csv) "
-                         "or the grid's work folder (summary.json in each run)")
+                    help="flow-curves' per-run table and generate's run table (bins.scenes.csv), "
+                         "the grid's work folder (summary.json in each run) or - (the table's "
+                         "own dt column)")
     ap.add_argument("--out", help="Markdown tables (printed as well)")
     ap.add_argument("--tolerance", type=float, default=0.05, help="relative tolerance (0.05)")
     ap.add_argument("--sigmas", type=float, default=2.0, help="standard errors (2)")

@@ -151,3 +151,16 @@ def test_against_last_compares_with_the_last_sets_run_whatever_its_step(tmp_path
     row = pooled(out)[0]
     assert (row["dt (limit)"], row["dt_ref"], row["difference"]) == (
         "1.000e-02 (diffusion)", "3.000e-02", "-2.000")
+
+
+def test_steps_from_the_tables_own_dt_column(tmp_path, write_csv, run_script):
+    curves = [{**run_row("a", 1, 11.0, 0.1), "dt": 0.03}, {**run_row("b", 1, 10.0, 0.1), "dt": 0.01}]
+    write_csv(tmp_path / "flow_curves.csv", curves)
+    status, out, err = run_script("step_convergence.py", "--set", tmp_path / "flow_curves.csv", "-")
+    assert status == 0, err
+    row = pooled(out)[0]
+    assert (row["dt (limit)"], row["dt_ref"], row["difference"]) == ("3.000e-02 (?)", "1.000e-02", "+1.000")
+    # A table without the steps is refused, naming the run.
+    write_csv(tmp_path / "old.csv", [run_row("a", 1, 11.0, 0.1)])
+    status, _, err = run_script("step_convergence.py", "--set", tmp_path / "old.csv", "-")
+    assert status != 0 and "run a seed 1" in err

@@ -197,16 +197,19 @@ def main():
         phi, rho, pe, mu, label, _, dt_ref = key
         if label:
             phi = f"{phi} ({label})"
+        dt = seeds[0][1]
+        # The limit that set the step, from a run that records it (not a `-` set's).
+        limit = next((seed[2] for seed in seeds if seed[2] != "?"), "?")
         cells = []
         for part in PARTS:
             diffs, block_var, longs, shorts = [], 0.0, [], []
-            for seed, dt, limit, long_, short in seeds:
+            for seed, seed_dt, seed_limit, long_, short in seeds:
                 q, q3 = float(long_[part]), float(short[part])
                 se_l, se_s = float(long_[part + "_se"]), float(short[part + "_se"])
                 se = math.hypot(se_l, se_s)
                 rel, sig, _ = verdict(q - q3, q3, se, a)
                 per_seed.append(
-                    f"| {phi} | {rho:g} | {pe:g} | {mu:g} | {seed} | {dt:.3e} ({limit}) | {dt_ref:.3e} | {part} | "
+                    f"| {phi} | {rho:g} | {pe:g} | {mu:g} | {seed} | {seed_dt:.3e} ({seed_limit}) | {dt_ref:.3e} | {part} | "
                     f"{q:.3f} +- {se_l:.3f} | {q3:.3f} +- {se_s:.3f} | {q - q3:+.3f} | {100 * rel:+.1f} % | {sig:+.1f} |")
                 diffs.append(q - q3)
                 block_var += se * se
@@ -221,7 +224,6 @@ def main():
             rel, sig, ok = verdict(mean, ref, se, a)
             compared += 1
             failures += not ok
-            dt, limit = seeds[0][1], seeds[0][2]
             pooled.append(
                 f"| {phi} | {rho:g} | {pe:g} | {mu:g} | {n} | {dt:.3e} ({limit}) | {dt_ref:.3e} | {part} | "
                 f"{sum(longs) / n:.3f} | {ref:.3f} | "
@@ -229,7 +231,7 @@ def main():
                 f"{'yes' if ok else '**no**'} |")
             cell = f"{100 * rel:+.1f} +- {100 * se / abs(ref) if ref else float('nan'):.1f} %"
             cells.append(cell if ok else f"**{cell}**")
-        summary.append(f"| {phi} | {rho:g} | {pe:g} | {mu:g} | {len(seeds)} | {seeds[0][1]:.2e} ({seeds[0][2]}) | "
+        summary.append(f"| {phi} | {rho:g} | {pe:g} | {mu:g} | {len(seeds)} | {dt:.2e} ({limit}) | "
                        f"{dt_ref:.2e} | "
                        + " | ".join(cells) + " |")
     reference = "the last set's run" if a.against_last else "the shortest of its state"

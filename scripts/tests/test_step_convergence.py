@@ -164,3 +164,32 @@ def test_steps_from_the_tables_own_dt_column(tmp_path, write_csv, run_script):
     write_csv(tmp_path / "old.csv", [run_row("a", 1, 11.0, 0.1)])
     status, _, err = run_script("step_convergence.py", "--set", tmp_path / "old.csv", "-")
     assert status != 0 and "run a seed 1" in err
+
+
+def summary(text):
+    """The first table (one row per state and step) as a list of dicts."""
+    lines = text.split("\n\n")[1].splitlines()
+    header = [c.strip() for c in lines[0].strip("|").split("|")]
+    return [dict(zip(header, (c.strip() for c in line.strip("|").split("|")))) for line in lines[2:]]
+
+
+def test_a_step_is_named_by_the_limit_a_run_records(tmp_path, write_csv, run_script):
+    # Seed 1's steps from a table without its runs' limits (`-`), seeds 2 and 3's from run
+    # tables: the state's step is named by the first limit recorded (seed 2's), each seed's
+    # row by its own.
+    (tmp_path / "a").mkdir()
+    write_csv(tmp_path / "a" / "flow_curves.csv",
+              [{**run_row("x", 1, 11.0, 0.1), "dt": 0.03}, {**run_row("y", 1, 10.0, 0.1), "dt": 0.01}])
+    curves = [run_row("x", 2, 11.0, 0.1), run_row("y", 2, 10.0, 0.1)]
+    (tmp_path / "c").mkdir()
+    write_csv(tmp_path / "c" / "flow_curves.csv", [run_row("x", 3, 11.0, 0.1), run_row("y", 3, 10.0, 0.1)])
+    write_csv(tmp_path / "c" / "bins.scenes.csv", [step_row("x", 0.03, limit="relaxation"),
+                                                    step_row("y", 0.01)])
+    out = convergence(tmp_path, write_csv, run_script, curves,
+                      [step_row("x", 0.03, limit="friction"), step_row("y", 0.01, limit="user")],
+                      "--set", tmp_path / "a" / "flow_curves.csv", "-",
+                      "--set", tmp_path / "c" / "flow_curves.csv", tmp_path / "c" / "bins.scenes.csv")
+    assert summary(out)[0]["dt (limit)"] == "3.00e-02 (friction)"
+    assert pooled(out)[0]["dt (limit)"] == "3.000e-02 (friction)"
+    per_seed = out.split("Per seed:")[1]
+    assert "| 1 | 3.000e-02 (?) |" in per_seed and "| 2 | 3.000e-02 (friction) |" in per_seed

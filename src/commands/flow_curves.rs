@@ -16,9 +16,9 @@
 //! them) and the README are made again from that table, written earlier, without the runs
 //! (with `--green-kubo`, the seeds' Pe -> 0 estimate among the fits), and the table is
 //! written into `--out` as this version writes it: the same lines, with the columns added
-//! since that the grid gives (the contacts) filled in. With both `--table` and `--runs`, the runs finished there take the place of the
-//! table's lines of the same scenes (part of a grid run again) and the table is written
-//! anew into `--out`.
+//! since that the grid gives (the contacts) filled in. With both `--table` and `--runs`,
+//! the runs finished there take the place of the table's lines of the same scenes (part of
+//! a grid run again) and the table is written anew into `--out`.
 //!
 //! Two stress conventions are fitted: the box's pair stresslets (contact and lubrication,
 //! as the thesis' LAMMPS runs report), and the bins' `sigma_xy` under the scene's
